@@ -1,0 +1,161 @@
+//! The [`Real`] trait: the float types (`f32`, `f64`) the bounds are built on.
+
+use crate::math::Math;
+
+/// A binary floating-point type that intervals and affine forms are built on.
+///
+/// Implemented for `f32` and `f64`. It adds to [`num_traits::Float`] what
+/// sound arithmetic needs: **portable** [`next_up`](Real::next_up) /
+/// [`next_down`](Real::next_down) (bit manipulation only, so they work on
+/// SPIR-V and WASM, where the rounding mode cannot be changed) and a few
+/// constants usable in `const` context.
+pub trait Real: num_traits::Float + Math + 'static {
+    /// `0`.
+    const ZERO: Self;
+    /// `1`.
+    const ONE: Self;
+    /// `2`.
+    const TWO: Self;
+    /// `0.5`.
+    const HALF: Self;
+    /// `+∞`.
+    const INFINITY: Self;
+    /// `−∞`.
+    const NEG_INFINITY: Self;
+    /// Largest finite value.
+    const MAX: Self;
+    /// Smallest positive subnormal value.
+    const MIN_SUBNORMAL: Self;
+    /// Machine epsilon: the distance from 1 to the next larger float (`2^(1−p)`).
+    const EPSILON: Self;
+    /// π rounded to nearest.
+    const PI: Self;
+    /// 2/π rounded to nearest.
+    const FRAC_2_PI: Self;
+    /// Number of significand bits `p`, including the implicit one (24 or 53).
+    const MANTISSA_DIGITS: u32;
+
+    /// The least float greater than `self`.
+    ///
+    /// `next_up(±0) = MIN_SUBNORMAL`, `next_up(MAX) = +∞`, `next_up(+∞) = +∞`,
+    /// `next_up(−∞) = −MAX`, `next_up(NaN) = NaN`.
+    fn next_up(self) -> Self;
+
+    /// The greatest float less than `self` (`-(-self).next_up()`).
+    #[inline]
+    fn next_down(self) -> Self {
+        -(-self).next_up()
+    }
+
+    /// `self` stepped `n` floats up (saturating at `+∞`).
+    #[inline]
+    fn next_up_n(self, n: u32) -> Self {
+        let mut x = self;
+        let mut i = 0;
+        while i < n {
+            x = x.next_up();
+            i += 1;
+        }
+        x
+    }
+
+    /// `self` stepped `n` floats down (saturating at `−∞`).
+    #[inline]
+    fn next_down_n(self, n: u32) -> Self {
+        -(-self).next_up_n(n)
+    }
+
+    /// Converts from `f64`, rounding to nearest.
+    fn from_f64(x: f64) -> Self;
+
+    /// Converts to `f64` (exact for both implementations).
+    fn as_f64(self) -> f64;
+}
+
+macro_rules! impl_real {
+    ($t:ident) => {
+        impl Real for $t {
+            const ZERO: Self = 0.0;
+            const ONE: Self = 1.0;
+            const TWO: Self = 2.0;
+            const HALF: Self = 0.5;
+            const INFINITY: Self = $t::INFINITY;
+            const NEG_INFINITY: Self = $t::NEG_INFINITY;
+            const MAX: Self = $t::MAX;
+            const MIN_SUBNORMAL: Self = $t::from_bits(1);
+            const EPSILON: Self = $t::EPSILON;
+            const PI: Self = core::$t::consts::PI;
+            const FRAC_2_PI: Self = core::$t::consts::FRAC_2_PI;
+            const MANTISSA_DIGITS: u32 = $t::MANTISSA_DIGITS;
+
+            #[inline]
+            fn next_up(self) -> Self {
+                // NaN and +∞ are fixed points.
+                if self.is_nan() || self == $t::INFINITY {
+                    return self;
+                }
+                // ±0 => the smallest positive subnormal.
+                if self == 0.0 {
+                    return $t::from_bits(1);
+                }
+                let bits = self.to_bits();
+                // Positive: the next bit pattern is the next float up.
+                // Negative: the magnitude shrinks, the previous pattern.
+                if self > 0.0 {
+                    $t::from_bits(bits + 1)
+                } else {
+                    $t::from_bits(bits - 1)
+                }
+            }
+
+            #[inline]
+            fn from_f64(x: f64) -> Self {
+                x as $t
+            }
+
+            #[inline]
+            fn as_f64(self) -> f64 {
+                self as f64
+            }
+        }
+    };
+}
+
+impl_real!(f32);
+impl_real!(f64);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn next_up_down_special_values() {
+        assert_eq!(0.0f64.next_up(), f64::from_bits(1));
+        assert_eq!((-0.0f64).next_up(), f64::from_bits(1));
+        assert_eq!(0.0f64.next_down(), -f64::from_bits(1));
+        assert_eq!(f64::MAX.next_up(), f64::INFINITY);
+        assert_eq!(f64::INFINITY.next_up(), f64::INFINITY);
+        assert_eq!(f64::NEG_INFINITY.next_up(), -f64::MAX);
+        assert_eq!(f64::NEG_INFINITY.next_down(), f64::NEG_INFINITY);
+        assert!(f64::NAN.next_up().is_nan());
+        assert_eq!((-f64::from_bits(1)).next_up(), -0.0);
+        assert_eq!(1.0f32.next_up(), 1.0 + f32::EPSILON);
+        assert_eq!(1.0f32.next_down(), 1.0 - f32::EPSILON / 2.0);
+        assert_eq!(f32::MIN_POSITIVE.next_down(), f32::from_bits(0x007f_ffff));
+        assert_eq!(1.0f64.next_up_n(3), 1.0 + 3.0 * f64::EPSILON);
+    }
+
+    #[test]
+    fn next_up_matches_std() {
+        let samples = [
+            -3.5f64, -1.0, -1e-310, 1e-310, 0.1, 1.0, 2.0, 1e300, -1e300, 123.456,
+        ];
+        for x in samples {
+            assert_eq!(Real::next_up(x), f64::next_up(x));
+            assert_eq!(Real::next_down(x), f64::next_down(x));
+            let y = x as f32;
+            assert_eq!(Real::next_up(y), f32::next_up(y));
+            assert_eq!(Real::next_down(y), f32::next_down(y));
+        }
+    }
+}

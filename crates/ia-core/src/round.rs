@@ -1,0 +1,206 @@
+//! Portable outward rounding of the basic operations.
+//!
+//! Each function computes the operation in the default round-to-nearest mode
+//! and steps the result one float outward ([`Real::next_down`] /
+//! [`Real::next_up`]). Since a round-to-nearest result is within half a float
+//! step of the exact value, the stepped value is a sound bound that is at
+//! most one float wider than the directed-rounding result. Results known to
+//! be exact (an operand is zero, an infinite operand) are not stepped, and on
+//! CPUs sums use the exact TwoSum residual to step only when needed (so they
+//! equal directed rounding).
+//! Nothing here touches the FPU rounding mode, so the same code is sound on
+//! SPIR-V and WASM.
+
+use crate::Real;
+use crate::math::{DIV_ULPS, SQRT_ULPS};
+
+/// The sign of the rounding error of `s = fl(a + b)`: `exact − s` as a float
+/// (Knuth's TwoSum, exact for finite `a`, `b`, `s` in round-to-nearest).
+///
+/// Not used on SPIR-V, where a driver might reassociate the expression; there
+/// sums are always stepped.
+#[cfg(not(target_arch = "spirv"))]
+#[inline]
+pub(crate) fn sum_residual<T: Real>(a: T, b: T, s: T) -> T {
+    let bb = s - a;
+    (a - (s - bb)) + (b - bb)
+}
+
+/// A lower bound of `a + b`: the directed-rounding result on CPUs (TwoSum
+/// tells whether round-to-nearest rounded up), one step below the
+/// round-to-nearest sum on SPIR-V.
+#[inline]
+pub(crate) fn add_down<T: Real>(a: T, b: T) -> T {
+    if a == T::ZERO {
+        return b;
+    }
+    if b == T::ZERO {
+        return a;
+    }
+    let s = a + b;
+    if !s.is_finite() {
+        // Overflow of finite operands (+∞ → MAX; −∞ stays), or an exact ±∞.
+        return if a.is_finite() && b.is_finite() {
+            s.next_down()
+        } else {
+            s
+        };
+    }
+    #[cfg(not(target_arch = "spirv"))]
+    {
+        if sum_residual(a, b, s) < T::ZERO {
+            s.next_down()
+        } else {
+            s
+        }
+    }
+    #[cfg(target_arch = "spirv")]
+    {
+        s.next_down()
+    }
+}
+
+/// An upper bound of `a + b` (see [`add_down`]).
+#[inline]
+pub(crate) fn add_up<T: Real>(a: T, b: T) -> T {
+    -add_down(-a, -b)
+}
+
+/// A lower bound of `a − b`.
+#[inline]
+pub(crate) fn sub_down<T: Real>(a: T, b: T) -> T {
+    add_down(a, -b)
+}
+
+/// An upper bound of `a − b`.
+#[inline]
+pub(crate) fn sub_up<T: Real>(a: T, b: T) -> T {
+    add_up(a, -b)
+}
+
+/// A lower bound of `a · b` (`0 · x = 0`, also for infinite `x`).
+#[inline]
+pub(crate) fn mul_down<T: Real>(a: T, b: T) -> T {
+    if a == T::ZERO || b == T::ZERO {
+        return T::ZERO;
+    }
+    (a * b).next_down()
+}
+
+/// An upper bound of `a · b` (`0 · x = 0`, also for infinite `x`).
+#[inline]
+pub(crate) fn mul_up<T: Real>(a: T, b: T) -> T {
+    if a == T::ZERO || b == T::ZERO {
+        return T::ZERO;
+    }
+    (a * b).next_up()
+}
+
+/// A lower bound of `a / b` for `b ≠ 0` (`0 / x` and `x / ±∞` are exact zeros).
+#[inline]
+pub(crate) fn div_down<T: Real>(a: T, b: T) -> T {
+    let q = a / b;
+    if q == T::ZERO && (a == T::ZERO || b.is_infinite()) {
+        return T::ZERO;
+    }
+    q.next_down_n(DIV_ULPS)
+}
+
+/// An upper bound of `a / b` for `b ≠ 0` (`0 / x` and `x / ±∞` are exact zeros).
+#[inline]
+pub(crate) fn div_up<T: Real>(a: T, b: T) -> T {
+    let q = a / b;
+    if q == T::ZERO && (a == T::ZERO || b.is_infinite()) {
+        return T::ZERO;
+    }
+    q.next_up_n(DIV_ULPS)
+}
+
+/// A lower bound of `√a` for `a ≥ 0`, never negative.
+#[inline]
+pub(crate) fn sqrt_down<T: Real>(a: T) -> T {
+    let r = a.m_sqrt();
+    if a == T::ZERO || r.is_infinite() {
+        return r;
+    }
+    r.next_down_n(SQRT_ULPS).max(T::ZERO)
+}
+
+/// An upper bound of `√a` for `a ≥ 0`.
+#[inline]
+pub(crate) fn sqrt_up<T: Real>(a: T) -> T {
+    let r = a.m_sqrt();
+    if a == T::ZERO || r.is_infinite() {
+        return r;
+    }
+    r.next_up_n(SQRT_ULPS)
+}
+
+/// `x^n` for `x ≥ 0`, rounded down: binary powering with [`mul_down`].
+///
+/// Each of the at most 62 products is stepped once, so the bound is within
+/// `2·log2(n)` float steps of the exact power.
+#[inline]
+pub(crate) fn powu_down<T: Real>(x: T, n: u32) -> T {
+    powu::<T, false>(x, n)
+}
+
+/// `x^n` for `x ≥ 0`, rounded up: binary powering with [`mul_up`].
+#[inline]
+pub(crate) fn powu_up<T: Real>(x: T, n: u32) -> T {
+    powu::<T, true>(x, n)
+}
+
+#[inline]
+fn powu<T: Real, const UP: bool>(x: T, mut n: u32) -> T {
+    // A const generic instead of a function pointer: SPIR-V has no indirect calls.
+    let mul = |a, b| if UP { mul_up(a, b) } else { mul_down(a, b) };
+    if n == 0 {
+        return T::ONE;
+    }
+    let mut base = x;
+    let mut acc = T::ONE;
+    let mut have = false;
+    loop {
+        if n & 1 == 1 {
+            acc = if have { mul(acc, base) } else { base };
+            have = true;
+        }
+        n >>= 1;
+        if n == 0 {
+            break;
+        }
+        base = mul(base, base);
+    }
+    // The exact power is ≥ 0; a stepped-down tiny product may be −0⁺.
+    acc.max(T::ZERO)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn exact_cases_are_not_widened() {
+        assert_eq!(add_down(1.5f64, 0.0), 1.5);
+        assert_eq!(mul_up(0.0f64, f64::INFINITY), 0.0);
+        assert_eq!(div_down(0.0f64, 3.0), 0.0);
+        assert_eq!(div_up(3.0f64, f64::INFINITY), 0.0);
+        assert_eq!(sqrt_down(0.0f64), 0.0);
+        assert_eq!(powu_up(3.0f64, 1), 3.0);
+    }
+
+    #[test]
+    fn inexact_cases_bracket() {
+        let (lo, hi) = (add_down(0.1f64, 0.2), add_up(0.1f64, 0.2));
+        assert!(lo <= 0.1 + 0.2 && 0.1 + 0.2 <= hi && lo.next_up() == hi);
+        assert_eq!(add_down(1.0f64, 2.0), 3.0);
+        assert_eq!(add_down(f64::MAX, f64::MAX), f64::MAX);
+        assert_eq!(add_up(f64::MAX, f64::MAX), f64::INFINITY);
+        assert!(div_down(1.0f64, 3.0) < 1.0 / 3.0 && 1.0 / 3.0 < div_up(1.0f64, 3.0));
+        assert_eq!(mul_down(f64::MAX, 2.0), f64::MAX);
+        assert_eq!(mul_up(f64::MAX, 2.0), f64::INFINITY);
+        assert!(powu_down(1.1f64, 10) <= powu_up(1.1f64, 10));
+        assert!(sqrt_down(2.0f32) * sqrt_down(2.0f32) < 2.0);
+    }
+}
