@@ -65,6 +65,12 @@ pub trait Real: num_traits::Float + Math + 'static {
         -(-self).next_up_n(n)
     }
 
+    /// Width in bits of the significand's non-zero span: `0` for zero, `1`
+    /// for powers of two, `p` for a value whose lowest significand bit is
+    /// set. Two finite values whose widths sum to at most `p` multiply
+    /// exactly unless the product leaves the normal range.
+    fn significant_bits(self) -> u32;
+
     /// Converts from `f64`, rounding to nearest.
     fn from_f64(x: f64) -> Self;
 
@@ -73,7 +79,7 @@ pub trait Real: num_traits::Float + Math + 'static {
 }
 
 macro_rules! impl_real {
-    ($t:ident) => {
+    ($t:ident, $bits:ident) => {
         impl Real for $t {
             const ZERO: Self = 0.0;
             const ONE: Self = 1.0;
@@ -109,6 +115,21 @@ macro_rules! impl_real {
             }
 
             #[inline]
+            fn significant_bits(self) -> u32 {
+                const FRAC: u32 = $t::MANTISSA_DIGITS - 1;
+                let bits = self.to_bits();
+                let frac = bits & ((1 << FRAC) - 1);
+                let biased_exp = (bits >> FRAC) & ((1 << ($bits::BITS - 1 - FRAC)) - 1);
+                // Normal numbers carry the implicit leading one.
+                let m = if biased_exp == 0 { frac } else { frac | (1 << FRAC) };
+                if m == 0 {
+                    0
+                } else {
+                    $bits::BITS - m.leading_zeros() - m.trailing_zeros()
+                }
+            }
+
+            #[inline]
             fn from_f64(x: f64) -> Self {
                 x as $t
             }
@@ -121,8 +142,8 @@ macro_rules! impl_real {
     };
 }
 
-impl_real!(f32);
-impl_real!(f64);
+impl_real!(f32, u32);
+impl_real!(f64, u64);
 
 #[cfg(test)]
 mod tests {
@@ -143,6 +164,18 @@ mod tests {
         assert_eq!(1.0f32.next_down(), 1.0 - f32::EPSILON / 2.0);
         assert_eq!(f32::MIN_POSITIVE.next_down(), f32::from_bits(0x007f_ffff));
         assert_eq!(1.0f64.next_up_n(3), 1.0 + 3.0 * f64::EPSILON);
+    }
+
+    #[test]
+    fn significant_bits() {
+        assert_eq!(0.0f64.significant_bits(), 0);
+        assert_eq!(1.0f64.significant_bits(), 1);
+        assert_eq!(3.0f64.significant_bits(), 2);
+        assert_eq!((-5.0f32).significant_bits(), 3);
+        assert_eq!(0.1f64.significant_bits(), 52); // 0x1.999999999999Ap-4
+        assert_eq!(f64::from_bits(1).significant_bits(), 1);
+        assert_eq!(1.0f64.next_up().significant_bits(), 53);
+        assert_eq!(f32::MAX.significant_bits(), 24);
     }
 
     #[test]

@@ -5,7 +5,8 @@
 //! [`Real::next_up`]). Since a round-to-nearest result is within half a float
 //! step of the exact value, the stepped value is a sound bound that is at
 //! most one float wider than the directed-rounding result. Results known to
-//! be exact (an operand is zero, an infinite operand) are not stepped, and on
+//! be exact (an operand is zero, an infinite operand, products of short
+//! significands) are not stepped, and on
 //! CPUs sums use the exact TwoSum residual to step only when needed (so they
 //! equal directed rounding).
 //! Nothing here touches the FPU rounding mode, so the same code is sound on
@@ -78,22 +79,37 @@ pub(crate) fn sub_up<T: Real>(a: T, b: T) -> T {
     add_up(a, -b)
 }
 
+/// Whether `p = fl(a · b)` is exact, by a cheap sufficient test: the
+/// operands' significands fit in one (integer bit counts, no FMA needed) and
+/// `p` is normal, or an operand is infinite.
+#[inline]
+pub(crate) fn product_is_exact<T: Real>(a: T, b: T, p: T) -> bool {
+    if a.is_infinite() || b.is_infinite() {
+        return true;
+    }
+    p.is_finite()
+        && p.abs() >= T::min_positive_value()
+        && a.significant_bits() + b.significant_bits() <= T::MANTISSA_DIGITS
+}
+
 /// A lower bound of `a · b` (`0 · x = 0`, also for infinite `x`).
 #[inline]
 pub(crate) fn mul_down<T: Real>(a: T, b: T) -> T {
     if a == T::ZERO || b == T::ZERO {
         return T::ZERO;
     }
-    (a * b).next_down()
+    let p = a * b;
+    if product_is_exact(a, b, p) {
+        p
+    } else {
+        p.next_down()
+    }
 }
 
 /// An upper bound of `a · b` (`0 · x = 0`, also for infinite `x`).
 #[inline]
 pub(crate) fn mul_up<T: Real>(a: T, b: T) -> T {
-    if a == T::ZERO || b == T::ZERO {
-        return T::ZERO;
-    }
-    (a * b).next_up()
+    -mul_down(-a, b)
 }
 
 /// A lower bound of `a / b` for `b ≠ 0` (`0 / x` and `x / ±∞` are exact zeros).
