@@ -674,6 +674,44 @@ impl<T: Real, const N: usize> Div<T> for Affine<T, N> {
     }
 }
 
+macro_rules! scalar_lhs_ops {
+    ($($t:ty),*) => {$(
+        impl<const N: usize> Add<Affine<$t, N>> for $t {
+            type Output = Affine<$t, N>;
+            /// `rhs + self`.
+            #[inline]
+            fn add(self, rhs: Affine<$t, N>) -> Affine<$t, N> {
+                rhs + self
+            }
+        }
+        impl<const N: usize> Sub<Affine<$t, N>> for $t {
+            type Output = Affine<$t, N>;
+            /// `(−rhs) + self`.
+            #[inline]
+            fn sub(self, rhs: Affine<$t, N>) -> Affine<$t, N> {
+                -rhs + self
+            }
+        }
+        impl<const N: usize> Mul<Affine<$t, N>> for $t {
+            type Output = Affine<$t, N>;
+            /// `rhs · self`.
+            #[inline]
+            fn mul(self, rhs: Affine<$t, N>) -> Affine<$t, N> {
+                rhs * self
+            }
+        }
+        impl<const N: usize> Div<Affine<$t, N>> for $t {
+            type Output = Affine<$t, N>;
+            /// `recip(rhs) · self`.
+            #[inline]
+            fn div(self, rhs: Affine<$t, N>) -> Affine<$t, N> {
+                rhs.recip() * self
+            }
+        }
+    )*};
+}
+scalar_lhs_ops!(f32, f64);
+
 impl<T: Real, const N: usize> From<Interval<T>> for Affine<T, N> {
     /// [`Affine::from_interval`].
     fn from(iv: Interval<T>) -> Self {

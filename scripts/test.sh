@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# The whole test suite, exactly as CI runs it (.ci/run calls this script).
+#
+# Works on a fresh machine with rustup: installs the components and targets
+# it needs. Set CARGO_TARGET_DIR to reuse a build cache outside the clone.
+# PROPTEST_CASES raises the property-test case count (default 10000 per op).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+step() { printf '\n==> %s\n' "$*"; }
+
+step "toolchain: rustfmt, clippy, thumbv7em-none-eabihf (no_std check)"
+rustup component add rustfmt clippy >/dev/null
+rustup target add thumbv7em-none-eabihf >/dev/null
+
+step "cargo fmt --check"
+cargo fmt --all -- --check
+
+step "cargo clippy (deny warnings)"
+cargo clippy --workspace --all-targets -- -D warnings
+
+step "cargo test --workspace"
+cargo test --workspace
+
+step "cargo test boundtrace-ia-core with the libm back end"
+cargo test -p boundtrace-ia-core --no-default-features --features libm
+
+step "cargo doc (deny warnings)"
+RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps
+
+step "no_std build of boundtrace-ia-core for thumbv7em-none-eabihf"
+cargo build -p boundtrace-ia-core --target thumbv7em-none-eabihf \
+    --no-default-features --features libm
+
+step "ITF1788 conformance report"
+report=$(find "${CARGO_TARGET_DIR:-target}" -name itf1788-report.txt -path '*tmp*' 2>/dev/null | head -n 1)
+if [ -n "$report" ]; then cat "$report"; fi
+
+printf '\nAll checks passed.\n'
