@@ -128,10 +128,24 @@ fn bench_ops(c: &mut Criterion) {
     unary!(c, "sqrt", pos, f64::sqrt, Interval::sqrt, Some(A::sqrt));
     unary!(c, "exp", mixed, f64::exp, Interval::exp, Some(A::exp));
     unary!(c, "ln", pos, f64::ln, Interval::ln, Some(A::ln));
-    unary!(c, "recip", pos, |x: f64| 1.0 / x, Interval::recip, Some(A::recip));
+    unary!(
+        c,
+        "recip",
+        pos,
+        |x: f64| 1.0 / x,
+        Interval::recip,
+        Some(A::recip)
+    );
     unary!(c, "sin", mixed, f64::sin, Interval::sin, None::<fn(A) -> A>);
     unary!(c, "cos", mixed, f64::cos, Interval::cos, None::<fn(A) -> A>);
-    unary!(c, "powi3", mixed, |x: f64| x.powi(3), |x: Interval<f64>| x.powi(3), None::<fn(A) -> A>);
+    unary!(
+        c,
+        "powi3",
+        mixed,
+        |x: f64| x.powi(3),
+        |x: Interval<f64>| x.powi(3),
+        None::<fn(A) -> A>
+    );
 }
 
 criterion_group!(benches, bench_ops);

@@ -416,7 +416,9 @@ impl<T: Real, const N: usize> Affine<T, N> {
         if !self.is_bounded() {
             return if self.is_entire() { self } else { Self::EMPTY };
         }
-        let r = self.to_interval().intersection(Interval::new(T::ZERO, T::INFINITY));
+        let r = self
+            .to_interval()
+            .intersection(Interval::new(T::ZERO, T::INFINITY));
         if r.is_empty() {
             return Self::EMPTY;
         }
@@ -437,7 +439,9 @@ impl<T: Real, const N: usize> Affine<T, N> {
         if !self.is_bounded() {
             return if self.is_entire() { self } else { Self::EMPTY };
         }
-        let r = self.to_interval().intersection(Interval::new(T::ZERO, T::INFINITY));
+        let r = self
+            .to_interval()
+            .intersection(Interval::new(T::ZERO, T::INFINITY));
         if r.is_empty() || r.hi() == T::ZERO {
             return Self::EMPTY;
         }
@@ -633,6 +637,7 @@ impl<T: Real, const N: usize> Div for Affine<T, N> {
     type Output = Self;
     /// `x̂ · recip(ŷ)`.
     #[inline]
+    #[allow(clippy::suspicious_arithmetic_impl)] // x / y = x · (1/y) by design
     fn div(self, rhs: Self) -> Self {
         self * rhs.recip()
     }
@@ -669,6 +674,7 @@ impl<T: Real, const N: usize> Div<T> for Affine<T, N> {
     type Output = Self;
     /// `x̂ · recip([rhs])`; division by zero gives `EMPTY` (as for intervals).
     #[inline]
+    #[allow(clippy::suspicious_arithmetic_impl)] // x / s = x · (1/s) by design
     fn div(self, rhs: T) -> Self {
         self * Self::constant(rhs).recip()
     }
@@ -704,6 +710,7 @@ macro_rules! scalar_lhs_ops {
             type Output = Affine<$t, N>;
             /// `recip(rhs) · self`.
             #[inline]
+            #[allow(clippy::suspicious_arithmetic_impl)] // s / y = (1/y) · s
             fn div(self, rhs: Affine<$t, N>) -> Affine<$t, N> {
                 rhs.recip() * self
             }
@@ -782,7 +789,8 @@ mod tests {
     #[test]
     fn nonlinear_ops_enclose_samples() {
         let x = var(0.5, 2.0);
-        let ops: [(fn(A) -> A, fn(f64) -> f64); 5] = [
+        type Case = (fn(A) -> A, fn(f64) -> f64);
+        let ops: [Case; 5] = [
             (A::exp, f64::exp),
             (A::sqrt, f64::sqrt),
             (A::ln, f64::ln),

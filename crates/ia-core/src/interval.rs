@@ -103,7 +103,10 @@ impl<T: Real> Interval<T> {
     /// them up (a NaN bound, produced by no operation here, gives `ENTIRE`).
     #[inline]
     fn raw(lo: T, hi: T) -> Self {
-        debug_assert!(!(lo > hi), "interval bounds out of order");
+        debug_assert!(
+            lo <= hi || lo.is_nan() || hi.is_nan(),
+            "interval bounds out of order"
+        );
         if lo.is_nan() || hi.is_nan() {
             return Self::ENTIRE;
         }
@@ -167,7 +170,11 @@ impl<T: Real> Interval<T> {
     pub fn intersection(self, other: Self) -> Self {
         let lo = self.lo.max(other.lo);
         let hi = self.hi.min(other.hi);
-        if lo <= hi { Self { lo, hi } } else { Self::EMPTY }
+        if lo <= hi {
+            Self { lo, hi }
+        } else {
+            Self::EMPTY
+        }
     }
 
     /// Width `hi − lo`, rounded up (`+∞` if unbounded, NaN if empty).
@@ -474,7 +481,7 @@ impl<T: Real> Interval<T> {
         }
         // Beyond this, consecutive floats may be more than a quarter period
         // apart, so the critical points cannot be placed.
-        let limit = T::from_f64(2f64.powi(T::MANTISSA_DIGITS as i32 - 3));
+        let limit = T::from_f64((1u64 << (T::MANTISSA_DIGITS - 3)) as f64);
         if !(a.abs() < limit && b.abs() < limit) {
             return unit;
         }
@@ -837,7 +844,10 @@ mod tests {
     fn multiplication_case_table() {
         // One case per cell of the table, with exact products.
         let near = |x: I, a: f64, b: f64| {
-            assert!(x.lo() <= a && x.lo() >= a.next_down(), "{x:?} vs [{a}, {b}]");
+            assert!(
+                x.lo() <= a && x.lo() >= a.next_down(),
+                "{x:?} vs [{a}, {b}]"
+            );
             assert!(x.hi() >= b && x.hi() <= b.next_up(), "{x:?} vs [{a}, {b}]");
         };
         near(iv(1.0, 2.0) * iv(3.0, 4.0), 3.0, 8.0); // P P

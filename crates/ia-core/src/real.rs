@@ -121,7 +121,11 @@ macro_rules! impl_real {
                 let frac = bits & ((1 << FRAC) - 1);
                 let biased_exp = (bits >> FRAC) & ((1 << ($bits::BITS - 1 - FRAC)) - 1);
                 // Normal numbers carry the implicit leading one.
-                let m = if biased_exp == 0 { frac } else { frac | (1 << FRAC) };
+                let m = if biased_exp == 0 {
+                    frac
+                } else {
+                    frac | (1 << FRAC)
+                };
                 if m == 0 {
                     0
                 } else {
