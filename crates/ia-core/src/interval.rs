@@ -340,16 +340,10 @@ impl<T: Real> Interval<T> {
         if !p.is_finite() {
             return Self::EMPTY;
         }
-        let mut x = self.nonneg();
-        if p <= T::ZERO && x.lo == T::ZERO {
-            // 0^p is undefined for p ≤ 0: drop the point 0.
-            if x.hi == T::ZERO {
-                return Self::EMPTY;
-            }
-            x.lo = T::MIN_SUBNORMAL;
-        }
-        if x.is_empty() {
-            return x;
+        let x = self.nonneg();
+        if x.is_empty() || (p <= T::ZERO && x.hi == T::ZERO) {
+            // 0^p is undefined for p ≤ 0.
+            return Self::EMPTY;
         }
         if p == T::ZERO {
             return Self::point(T::ONE);
@@ -379,8 +373,9 @@ impl<T: Real> Interval<T> {
             // Increasing on [0, ∞].
             Self::raw(down(x.lo), up(x.hi))
         } else {
-            // Decreasing on (0, ∞]; x.lo > 0 here.
-            Self::raw(down(x.hi), up(x.lo))
+            // Decreasing on (0, ∞]; unbounded as x → 0⁺ when 0 ∈ x.
+            let hi = if x.lo == T::ZERO { T::INFINITY } else { up(x.lo) };
+            Self::raw(down(x.hi), hi)
         }
     }
 
@@ -922,6 +917,10 @@ mod tests {
         assert_eq!(iv(0.0, 2.0).pow(0.0), iv(1.0, 1.0));
         assert!(iv(0.0, 2.0).pow(f64::NAN).is_empty());
         assert!(iv(0.0, 2.0).pow(-1.0).hi() == INF);
+        // Reals in (0, MIN_SUBNORMAL) are in [0, 2]: x^−0.001 is unbounded.
+        assert_eq!(iv(0.0, 2.0).pow(-0.001).hi(), INF);
+        assert!(iv(0.0, 0.0).pow(-0.5).is_empty());
+        assert_eq!(iv(0.0, 0.0).pow(0.5), iv(0.0, 0.0));
     }
 
     #[test]
