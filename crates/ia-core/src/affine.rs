@@ -22,8 +22,8 @@ use crate::round::{add_down, add_up, mul_down, mul_up, product_is_exact, sub_dow
 /// stand for, the exact real result of an operation lies in the result form
 /// evaluated at the same symbols, widened by its error term. Rounding errors
 /// of each computed coefficient are bounded by `ε_mach·|c| + MIN_SUBNORMAL`
-/// (sums: the exact TwoSum residual on CPUs) and added to `e` with upward
-/// rounding.
+/// (twice the true bound) and added to `e`; products with short significands
+/// and, on CPUs, sums whose TwoSum residual is 0 are exact and add nothing.
 ///
 /// # Representation invariant
 ///
@@ -53,20 +53,38 @@ pub struct Affine<T, const N: usize> {
     err: T,
 }
 
-/// Upper bound of the rounding error of a round-to-nearest result `c`:
-/// at most `ε_mach/2·|c|` (normal) or `MIN_SUBNORMAL/2` (underflow); this
-/// doubles both, so its own rounding is covered.
+/// Twice an upper bound of the rounding error of a round-to-nearest result
+/// `c`: the error is at most `ε_mach/2·|c|` (normal `c`) or
+/// `MIN_SUBNORMAL/2` (subnormal `c`), and this returns at least twice that.
 #[inline]
 fn rnd<T: Real>(c: T) -> T {
     c.abs() * T::EPSILON + T::MIN_SUBNORMAL
 }
 
-/// Accumulates rounding errors with upward rounding.
-struct Errors<T>(T);
+/// Accumulates the error term of a result.
+///
+/// Sound terms (scaled input errors, linearisation errors) are summed with
+/// upward rounding. Rounding errors are summed as [`rnd`] bounds with plain
+/// round-to-nearest additions: each bound is twice the true error, and a
+/// sum of `k` non-negative terms loses at most a factor `(1 − u)^(k−1)`, far
+/// less than that slack — so one upward-rounded addition at the end is enough.
+struct Errors<T> {
+    sound: T,
+    rounding: T,
+}
 
 impl<T: Real> Errors<T> {
-    /// `fl(a + b)`, recording its rounding error: exactly (TwoSum residual)
-    /// on CPUs, by the bound [`rnd`] on SPIR-V.
+    /// Starts from a sound (already upward-rounded) error term.
+    #[inline]
+    fn new(sound: T) -> Self {
+        Self {
+            sound,
+            rounding: T::ZERO,
+        }
+    }
+
+    /// `fl(a + b)`, recording its rounding error (none when exact: an operand
+    /// is 0, or on CPUs when the TwoSum residual is 0).
     #[inline]
     fn sum(&mut self, a: T, b: T) -> T {
         let s = a + b;
@@ -74,28 +92,34 @@ impl<T: Real> Errors<T> {
             return s;
         }
         #[cfg(not(target_arch = "spirv"))]
-        let err = sum_residual(a, b, s).abs();
-        #[cfg(target_arch = "spirv")]
-        let err = rnd(s);
-        self.0 = add_up(self.0, err);
+        if sum_residual(a, b, s) == T::ZERO {
+            return s;
+        }
+        self.rounding = self.rounding + rnd(s);
         s
     }
 
-    /// `fl(a · b)`, recording its rounding error bound (none if an operand is 0).
+    /// `fl(a · b)`, recording its rounding error (none when exact).
     #[inline]
     fn prod(&mut self, a: T, b: T) -> T {
         let p = a * b;
         if a == T::ZERO || b == T::ZERO || product_is_exact(a, b, p) {
             return p;
         }
-        self.0 = add_up(self.0, rnd(p));
+        self.rounding = self.rounding + rnd(p);
         p
     }
 
-    /// Adds a non-negative error term.
+    /// Adds a sound non-negative error term.
     #[inline]
     fn add(&mut self, e: T) {
-        self.0 = add_up(self.0, e);
+        self.sound = add_up(self.sound, e);
+    }
+
+    /// The total error bound, rounded up.
+    #[inline]
+    fn total(&self) -> T {
+        add_up(self.sound, self.rounding)
     }
 }
 
@@ -298,7 +322,7 @@ impl<T: Real, const N: usize> Affine<T, N> {
                 Self::ENTIRE
             };
         }
-        let mut e = Errors(mul_up(self.err, s.abs()));
+        let mut e = Errors::new(mul_up(self.err, s.abs()));
         let c = if s == T::ONE {
             self.center
         } else {
@@ -313,7 +337,7 @@ impl<T: Real, const N: usize> Affine<T, N> {
                 i += 1;
             }
         }
-        Self::finish(center, coeffs, e.0)
+        Self::finish(center, coeffs, e.total())
     }
 
     /// `x²` (as `x · x`, which keeps the dependence: `x₀² + ½Σxᵢ²` centre).
@@ -336,9 +360,9 @@ impl<T: Real, const N: usize> Affine<T, N> {
         if !z.is_bounded() {
             return z;
         }
-        let mut e = Errors(z.err);
+        let mut e = Errors::new(z.err);
         e.add(g.rad());
-        Self::finish(z.center, z.coeffs, e.0)
+        Self::finish(z.center, z.coeffs, e.total())
     }
 
     /// Chebyshev linearisation of a monotone, convex (`convex = true`) or
@@ -569,7 +593,7 @@ impl<T: Real, const N: usize> Add for Affine<T, N> {
         if let Some(s) = self.special2(rhs) {
             return s;
         }
-        let mut e = Errors(add_up(self.err, rhs.err));
+        let mut e = Errors::new(add_up(self.err, rhs.err));
         let center = e.sum(self.center, rhs.center);
         let mut coeffs = self.coeffs;
         let mut i = 0;
@@ -577,7 +601,7 @@ impl<T: Real, const N: usize> Add for Affine<T, N> {
             coeffs[i] = e.sum(coeffs[i], rhs.coeffs[i]);
             i += 1;
         }
-        Self::finish(center, coeffs, e.0)
+        Self::finish(center, coeffs, e.total())
     }
 }
 
@@ -605,7 +629,7 @@ impl<T: Real, const N: usize> Mul for Affine<T, N> {
             return s;
         }
         let (x0, y0) = (self.center, rhs.center);
-        let mut e = Errors(T::ZERO);
+        let mut e = Errors::new(T::ZERO);
         let mut diag = T::ZERO; // Σ xᵢyᵢ (rounding tracked)
         let mut diag_abs = T::ZERO; // Σ |xᵢyᵢ| rounded down
         let mut coeffs = [T::ZERO; N];
@@ -629,7 +653,7 @@ impl<T: Real, const N: usize> Mul for Affine<T, N> {
         );
         let nonlinear = sub_up(cross, mul_down(diag_abs, T::HALF)).max(T::ZERO);
         e.add(nonlinear);
-        Self::finish(center, coeffs, e.0)
+        Self::finish(center, coeffs, e.total())
     }
 }
 

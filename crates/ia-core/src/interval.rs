@@ -374,7 +374,11 @@ impl<T: Real> Interval<T> {
             Self::raw(down(x.lo), up(x.hi))
         } else {
             // Decreasing on (0, ∞]; unbounded as x → 0⁺ when 0 ∈ x.
-            let hi = if x.lo == T::ZERO { T::INFINITY } else { up(x.lo) };
+            let hi = if x.lo == T::ZERO {
+                T::INFINITY
+            } else {
+                up(x.lo)
+            };
             Self::raw(down(x.hi), hi)
         }
     }
