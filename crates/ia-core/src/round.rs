@@ -154,8 +154,8 @@ pub(crate) fn sqrt_up<T: Real>(a: T) -> T {
 
 /// `x^n` for `x ≥ 0`, rounded down: binary powering with [`mul_down`].
 ///
-/// Each of the at most 62 products is stepped once, so the bound is within
-/// `2·log2(n)` float steps of the exact power.
+/// Each of the at most 62 products is stepped once; squarings double the
+/// relative error, so the bound is within a factor `(1 + ε_mach)^(n−1)`.
 #[inline]
 pub(crate) fn powu_down<T: Real>(x: T, n: u32) -> T {
     powu::<T, false>(x, n)
