@@ -391,6 +391,11 @@ impl<T: Real, const N: usize> Affine<T, N> {
         if a == b {
             return Self::from_interval(fa);
         }
+        if !range.is_bounded() {
+            // The form is bounded but its range overflowed (an infinite end
+            // is no point to evaluate f at): give up soundly.
+            return Self::ENTIRE;
+        }
         if !(fa.is_bounded() && fb.is_bounded()) {
             // f unbounded on the range (exp overflow, ln at 0).
             return Self::ENTIRE;
@@ -408,6 +413,11 @@ impl<T: Real, const N: usize> Affine<T, N> {
         }
         let tangent =
             fi(c) - Interval::point(c) * alpha + (dfi(c) - alpha) * (range - Interval::point(c));
+        if !tangent.is_bounded() {
+            // c or f'(c) out of range (e.g. the tangent point of √ on a tiny
+            // range overflowed to 0, where f' is unbounded): monotone hull.
+            return Self::from_interval(fa.hull(fb));
+        }
         let g = if convex {
             Interval::new(tangent.lo().min(ends.lo()), ends.hi())
         } else {
@@ -516,6 +526,10 @@ impl<T: Real, const N: usize> Affine<T, N> {
         }
         if r.hi() <= T::ZERO {
             return -self;
+        }
+        if !r.is_bounded() {
+            // Bounded form whose range overflowed: no finite line fits.
+            return Self::ENTIRE;
         }
         let (a, b) = (r.lo(), r.hi());
         let alpha = ((b + a) / (b - a)).max(-T::ONE).min(T::ONE);
@@ -856,6 +870,23 @@ mod tests {
         }
         assert_eq!(x.min(A::constant(5.0)), x);
         assert_eq!(x.max(A::constant(5.0)), A::constant(5.0));
+    }
+
+    #[test]
+    fn regressions_from_the_property_tests() {
+        // sqrt on [0, b] with tiny b: the tangent point overflowed to 0.
+        let m = f64::MIN_POSITIVE;
+        let x = var(-m, m);
+        let eps = 1.0 / 16.0;
+        let exact = (m * eps).sqrt();
+        assert!(x.sqrt().eval([eps]).contains(exact));
+        // abs/min/max of bounded forms whose range overflows.
+        let big = A::variable(I::new(-f64::MAX, f64::MAX), 0);
+        let shifted = big + 1.0; // range [−MAX, +∞]
+        assert!(shifted.abs().eval([1.0]).hi() == f64::INFINITY);
+        let y = var(0.0, 1.0);
+        assert!(big.min(y).eval([1.0]).contains(1.0));
+        assert!(big.max(y).eval([1.0]).contains(f64::MAX));
     }
 
     #[test]

@@ -49,11 +49,9 @@ pub(crate) fn add_down<T: Real>(a: T, b: T) -> T {
     }
     #[cfg(not(target_arch = "spirv"))]
     {
-        if sum_residual(a, b, s) < T::ZERO {
-            s.next_down()
-        } else {
-            s
-        }
+        // A NaN residual (s − a overflowed on a tie near MAX) means inexact.
+        let r = sum_residual(a, b, s);
+        if r >= T::ZERO { s } else { s.next_down() }
     }
     #[cfg(target_arch = "spirv")]
     {
@@ -213,6 +211,9 @@ mod tests {
         assert_eq!(add_down(1.0f64, 2.0), 3.0);
         assert_eq!(add_down(f64::MAX, f64::MAX), f64::MAX);
         assert_eq!(add_up(f64::MAX, f64::MAX), f64::INFINITY);
+        // Exact sum MAX − 1.5·2^971 is a tie: TwoSum's s − a overflows (NaN).
+        let a = f64::from_bits(0xfca8000000000000);
+        assert!(add_down(a, f64::MAX) < f64::from_bits(0x7feffffffffffffe));
         assert!(div_down(1.0f64, 3.0) < 1.0 / 3.0 && 1.0 / 3.0 < div_up(1.0f64, 3.0));
         assert_eq!(mul_down(f64::MAX, 2.0), f64::MAX);
         assert_eq!(mul_up(f64::MAX, 2.0), f64::INFINITY);
