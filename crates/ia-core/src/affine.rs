@@ -386,15 +386,15 @@ impl<T: Real, const N: usize> Affine<T, N> {
         dfi: impl Fn(T) -> Interval<T>,
         tangent_at: impl Fn(T) -> T,
     ) -> Self {
-        let (a, b) = (range.lo(), range.hi());
-        let (fa, fb) = (fi(a), fi(b));
-        if a == b {
-            return Self::from_interval(fa);
-        }
         if !range.is_bounded() {
             // The form is bounded but its range overflowed (an infinite end
             // is no point to evaluate f at): give up soundly.
             return Self::ENTIRE;
+        }
+        let (a, b) = (range.lo(), range.hi());
+        let (fa, fb) = (fi(a), fi(b));
+        if a == b {
+            return Self::from_interval(fa);
         }
         if !(fa.is_bounded() && fb.is_bounded()) {
             // f unbounded on the range (exp overflow, ln at 0).

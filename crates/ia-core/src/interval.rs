@@ -484,8 +484,8 @@ impl<T: Real> Interval<T> {
         }
         let unit = Self::raw(-T::ONE, T::ONE);
         let f = |v: T| if phase == 1 { v.m_sin() } else { v.m_cos() };
-        let bound = |v: T, up: bool| {
-            let r = f(v);
+        // Widens r = f(v) outward (exact at v = 0).
+        let bound = |v: T, r: T, up: bool| {
             if v == T::ZERO {
                 r // exact: sin 0 = 0, cos 0 = 1
             } else if up {
@@ -495,8 +495,9 @@ impl<T: Real> Interval<T> {
             }
         };
         let (a, b) = (self.lo, self.hi);
+        let fa = f(a);
         if a == b {
-            return Self::raw(bound(a, false), bound(a, true));
+            return Self::raw(bound(a, fa, false), bound(a, fa, true));
         }
         // Beyond this, consecutive floats may be more than a quarter period
         // apart, so the critical points cannot be placed.
@@ -508,11 +509,11 @@ impl<T: Real> Interval<T> {
         let two_over_pi = Self::raw(T::FRAC_2_PI.next_down(), T::FRAC_2_PI.next_up());
         let qa = (Self::point(a) * two_over_pi).lo;
         let qb = (Self::point(b) * two_over_pi).hi;
-        if qb - qa >= T::from_f64(4.0) {
+        let four = T::from_f64(4.0);
+        if qb - qa >= four {
             return unit;
         }
         // The critical points are the integers n in [qa, qb] (at most 5).
-        let four = T::from_f64(4.0);
         let (mut has_max, mut has_min) = (false, false);
         let mut n = qa.ceil();
         while n <= qb {
@@ -522,10 +523,17 @@ impl<T: Real> Interval<T> {
             has_min |= r == phase + 2;
             n = n + T::ONE;
         }
-        let (fa_lo, fb_lo) = (bound(a, false), bound(b, false));
-        let (fa_hi, fb_hi) = (bound(a, true), bound(b, true));
-        let lo = if has_min { -T::ONE } else { fa_lo.min(fb_lo) };
-        let hi = if has_max { T::ONE } else { fa_hi.max(fb_hi) };
+        let fb = f(b);
+        let lo = if has_min {
+            -T::ONE
+        } else {
+            bound(a, fa, false).min(bound(b, fb, false))
+        };
+        let hi = if has_max {
+            T::ONE
+        } else {
+            bound(a, fa, true).max(bound(b, fb, true))
+        };
         Self::raw(lo, hi)
     }
 
