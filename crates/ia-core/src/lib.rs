@@ -59,7 +59,7 @@ mod affine;
 mod interval;
 mod math;
 mod real;
-mod round;
+pub mod round;
 
 pub use affine::Affine;
 pub use interval::Interval;

@@ -31,7 +31,7 @@ pub(crate) fn sum_residual<T: Real>(a: T, b: T, s: T) -> T {
 /// tells whether round-to-nearest rounded up), one step below the
 /// round-to-nearest sum on SPIR-V.
 #[inline]
-pub(crate) fn add_down<T: Real>(a: T, b: T) -> T {
+pub fn add_down<T: Real>(a: T, b: T) -> T {
     if a == T::ZERO {
         return b;
     }
@@ -61,19 +61,19 @@ pub(crate) fn add_down<T: Real>(a: T, b: T) -> T {
 
 /// An upper bound of `a + b` (see [`add_down`]).
 #[inline]
-pub(crate) fn add_up<T: Real>(a: T, b: T) -> T {
+pub fn add_up<T: Real>(a: T, b: T) -> T {
     -add_down(-a, -b)
 }
 
 /// A lower bound of `a − b`.
 #[inline]
-pub(crate) fn sub_down<T: Real>(a: T, b: T) -> T {
+pub fn sub_down<T: Real>(a: T, b: T) -> T {
     add_down(a, -b)
 }
 
 /// An upper bound of `a − b`.
 #[inline]
-pub(crate) fn sub_up<T: Real>(a: T, b: T) -> T {
+pub fn sub_up<T: Real>(a: T, b: T) -> T {
     add_up(a, -b)
 }
 
@@ -92,7 +92,7 @@ pub(crate) fn product_is_exact<T: Real>(a: T, b: T, p: T) -> bool {
 
 /// A lower bound of `a · b` (`0 · x = 0`, also for infinite `x`).
 #[inline]
-pub(crate) fn mul_down<T: Real>(a: T, b: T) -> T {
+pub fn mul_down<T: Real>(a: T, b: T) -> T {
     if a == T::ZERO || b == T::ZERO {
         return T::ZERO;
     }
@@ -106,13 +106,13 @@ pub(crate) fn mul_down<T: Real>(a: T, b: T) -> T {
 
 /// An upper bound of `a · b` (`0 · x = 0`, also for infinite `x`).
 #[inline]
-pub(crate) fn mul_up<T: Real>(a: T, b: T) -> T {
+pub fn mul_up<T: Real>(a: T, b: T) -> T {
     -mul_down(-a, b)
 }
 
 /// A lower bound of `a / b` for `b ≠ 0` (`0 / x` and `x / ±∞` are exact zeros).
 #[inline]
-pub(crate) fn div_down<T: Real>(a: T, b: T) -> T {
+pub fn div_down<T: Real>(a: T, b: T) -> T {
     let q = a / b;
     if q == T::ZERO && (a == T::ZERO || b.is_infinite()) {
         return T::ZERO;
@@ -122,7 +122,7 @@ pub(crate) fn div_down<T: Real>(a: T, b: T) -> T {
 
 /// An upper bound of `a / b` for `b ≠ 0` (`0 / x` and `x / ±∞` are exact zeros).
 #[inline]
-pub(crate) fn div_up<T: Real>(a: T, b: T) -> T {
+pub fn div_up<T: Real>(a: T, b: T) -> T {
     let q = a / b;
     if q == T::ZERO && (a == T::ZERO || b.is_infinite()) {
         return T::ZERO;
@@ -132,7 +132,7 @@ pub(crate) fn div_up<T: Real>(a: T, b: T) -> T {
 
 /// A lower bound of `√a` for `a ≥ 0`, never negative.
 #[inline]
-pub(crate) fn sqrt_down<T: Real>(a: T) -> T {
+pub fn sqrt_down<T: Real>(a: T) -> T {
     let r = a.m_sqrt();
     if a == T::ZERO || r.is_infinite() {
         return r;
@@ -142,7 +142,7 @@ pub(crate) fn sqrt_down<T: Real>(a: T) -> T {
 
 /// An upper bound of `√a` for `a ≥ 0`.
 #[inline]
-pub(crate) fn sqrt_up<T: Real>(a: T) -> T {
+pub fn sqrt_up<T: Real>(a: T) -> T {
     let r = a.m_sqrt();
     if a == T::ZERO || r.is_infinite() {
         return r;
@@ -155,13 +155,13 @@ pub(crate) fn sqrt_up<T: Real>(a: T) -> T {
 /// Each of the at most 62 products is stepped once; squarings double the
 /// relative error, so the bound is within a factor `(1 + ε_mach)^(n−1)`.
 #[inline]
-pub(crate) fn powu_down<T: Real>(x: T, n: u32) -> T {
+pub fn powu_down<T: Real>(x: T, n: u32) -> T {
     powu::<T, false>(x, n)
 }
 
 /// `x^n` for `x ≥ 0`, rounded up: binary powering with [`mul_up`].
 #[inline]
-pub(crate) fn powu_up<T: Real>(x: T, n: u32) -> T {
+pub fn powu_up<T: Real>(x: T, n: u32) -> T {
     powu::<T, true>(x, n)
 }
 

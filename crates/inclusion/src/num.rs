@@ -1,0 +1,270 @@
+//! [`FieldNum`]: the arithmetic every number type of boundtrace offers, so a
+//! field is written once and evaluated with all of them.
+
+use crate::{ForwardLinear, ForwardQuadratic, Jet};
+use boundtrace_ia_core::{Affine, Interval, Real};
+use core::ops::{Add, Div, Mul, Neg, Sub};
+use num_traits::Float;
+
+/// The number types a [`Field`](crate::Field) is evaluated with: plain
+/// floats `T`, [`Jet<T>`], [`Interval<T>`], [`Affine<T, N>`],
+/// [`ForwardLinear<T>`] and [`ForwardQuadratic<T>`].
+///
+/// Each type implements the operations with its own semantics (exact-ish
+/// float, derivatives, sound enclosures, forward bounds). The ray parameter
+/// is [`ray_param`](Self::ray_param), the identity on `[t₀, t₁]`; a point
+/// `o + t·d` is then `t * d + o` computed in the number type (see
+/// [`Ray::at`](crate::Ray::at)).
+///
+/// Scalars: `x + c`, `x - c`, `x * c`, `x / c` with `c: T`; write `c − x` as
+/// `-x + c`.
+///
+/// ```
+/// use boundtrace_inclusion::{FieldNum, ForwardQuadratic, Jet};
+/// use boundtrace_ia_core::Interval;
+///
+/// fn blob<N: FieldNum<f64>>(t: N) -> N {
+///     (-(t - 0.5).sqr()).exp() - 0.5
+/// }
+/// let at = blob(0.0f64);
+/// assert!(blob(Interval::ray_param(0.0, 0.0)).contains(at));
+/// assert_eq!(blob(Jet::ray_param(0.0, 1.0)).v, at);
+/// assert!(blob(ForwardQuadratic::ray_param(0.0, 1.0)).start().contains(at));
+/// ```
+pub trait FieldNum<T: Real>:
+    Copy
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+    + Add<T, Output = Self>
+    + Sub<T, Output = Self>
+    + Mul<T, Output = Self>
+    + Div<T, Output = Self>
+{
+    /// The constant `c`.
+    fn constant(c: T) -> Self;
+    /// The ray parameter `t` on `[t0, t1]`: the point `t0` for `T` (and
+    /// `Jet` with `f' = 1`), the interval for `Interval`/`Affine`, the
+    /// identity bound for the forward types.
+    fn ray_param(t0: T, t1: T) -> Self;
+    /// `x²`.
+    fn sqr(self) -> Self;
+    /// `xⁿ` for an integer `n`.
+    fn powi(self, n: i32) -> Self;
+    /// `x^p` for a real `p`.
+    fn powf(self, p: T) -> Self;
+    /// `√x`.
+    fn sqrt(self) -> Self;
+    /// `1/x`.
+    fn recip(self) -> Self;
+    /// `eˣ`.
+    fn exp(self) -> Self;
+    /// `ln x`.
+    fn ln(self) -> Self;
+    /// `|x|`.
+    fn abs(self) -> Self;
+    /// `min(x, y)`.
+    fn min(self, other: Self) -> Self;
+    /// `max(x, y)`.
+    fn max(self, other: Self) -> Self;
+    /// `max(1 − x, 0)`: the clamped `1 − x` of compact kernels.
+    #[inline]
+    fn one_minus_clamped(self) -> Self {
+        (-self + T::ONE).max(Self::constant(T::ZERO))
+    }
+}
+
+macro_rules! float_num {
+    ($($t:ty),*) => {$(
+        impl FieldNum<$t> for $t {
+            #[inline]
+            fn constant(c: $t) -> Self { c }
+            #[inline]
+            fn ray_param(t0: $t, _t1: $t) -> Self { t0 }
+            #[inline]
+            fn sqr(self) -> Self { self * self }
+            #[inline]
+            fn powi(self, n: i32) -> Self { Float::powi(self, n) }
+            #[inline]
+            fn powf(self, p: $t) -> Self { Float::powf(self, p) }
+            #[inline]
+            fn sqrt(self) -> Self { Float::sqrt(self) }
+            #[inline]
+            fn recip(self) -> Self { 1.0 / self }
+            #[inline]
+            fn exp(self) -> Self { Float::exp(self) }
+            #[inline]
+            fn ln(self) -> Self { Float::ln(self) }
+            #[inline]
+            fn abs(self) -> Self { Float::abs(self) }
+            #[inline]
+            fn min(self, o: Self) -> Self { Float::min(self, o) }
+            #[inline]
+            fn max(self, o: Self) -> Self { Float::max(self, o) }
+        }
+    )*};
+}
+float_num!(f32, f64);
+
+/// Forwards the trait to inherent methods of the same names.
+macro_rules! forward_num {
+    ($ty:ty, [$($gen:tt)*], $ray:expr) => {
+        impl<$($gen)*> FieldNum<T> for $ty {
+            #[inline]
+            fn constant(c: T) -> Self { <$ty>::constant(c) }
+            #[inline]
+            fn ray_param(t0: T, t1: T) -> Self { ($ray)(t0, t1) }
+            #[inline]
+            fn sqr(self) -> Self { <$ty>::sqr(self) }
+            #[inline]
+            fn powi(self, n: i32) -> Self { <$ty>::powi(self, n) }
+            #[inline]
+            fn powf(self, p: T) -> Self { <$ty>::powf(self, p) }
+            #[inline]
+            fn sqrt(self) -> Self { <$ty>::sqrt(self) }
+            #[inline]
+            fn recip(self) -> Self { <$ty>::recip(self) }
+            #[inline]
+            fn exp(self) -> Self { <$ty>::exp(self) }
+            #[inline]
+            fn ln(self) -> Self { <$ty>::ln(self) }
+            #[inline]
+            fn abs(self) -> Self { <$ty>::abs(self) }
+            #[inline]
+            fn min(self, o: Self) -> Self { <$ty>::min(self, o) }
+            #[inline]
+            fn max(self, o: Self) -> Self { <$ty>::max(self, o) }
+        }
+    };
+}
+
+forward_num!(Jet<T>, [T: Real], |t0, _t1| Jet::variable(t0));
+forward_num!(ForwardLinear<T>, [T: Real], ForwardLinear::ray_param);
+forward_num!(ForwardQuadratic<T>, [T: Real], ForwardQuadratic::ray_param);
+
+impl<T: Real> FieldNum<T> for Interval<T> {
+    #[inline]
+    fn constant(c: T) -> Self {
+        Interval::point(c)
+    }
+    #[inline]
+    fn ray_param(t0: T, t1: T) -> Self {
+        Interval::new(t0, t1)
+    }
+    #[inline]
+    fn sqr(self) -> Self {
+        Interval::sqr(self)
+    }
+    #[inline]
+    fn powi(self, n: i32) -> Self {
+        Interval::powi(self, n)
+    }
+    #[inline]
+    fn powf(self, p: T) -> Self {
+        Interval::pow(self, p)
+    }
+    #[inline]
+    fn sqrt(self) -> Self {
+        Interval::sqrt(self)
+    }
+    #[inline]
+    fn recip(self) -> Self {
+        Interval::recip(self)
+    }
+    #[inline]
+    fn exp(self) -> Self {
+        Interval::exp(self)
+    }
+    #[inline]
+    fn ln(self) -> Self {
+        Interval::ln(self)
+    }
+    #[inline]
+    fn abs(self) -> Self {
+        Interval::abs(self)
+    }
+    #[inline]
+    fn min(self, o: Self) -> Self {
+        Interval::min(self, o)
+    }
+    #[inline]
+    fn max(self, o: Self) -> Self {
+        Interval::max(self, o)
+    }
+}
+
+/// Affine forms: the ray parameter is noise symbol `0`. `powi` is binary
+/// powering with [`Affine::sqr`] and products; `powf` goes through an
+/// interval (`Interval::pow` of the form's range, which forgets the
+/// correlation but stays sound).
+impl<T: Real, const N: usize> FieldNum<T> for Affine<T, N> {
+    #[inline]
+    fn constant(c: T) -> Self {
+        Affine::constant(c)
+    }
+    #[inline]
+    fn ray_param(t0: T, t1: T) -> Self {
+        Affine::variable(Interval::new(t0, t1), 0)
+    }
+    #[inline]
+    fn sqr(self) -> Self {
+        Affine::sqr(self)
+    }
+    fn powi(self, n: i32) -> Self {
+        if n == 0 {
+            return Affine::constant(T::ONE);
+        }
+        let mut e = n.unsigned_abs();
+        let mut base = self;
+        let mut acc: Option<Self> = None;
+        loop {
+            if e & 1 == 1 {
+                acc = Some(match acc {
+                    None => base,
+                    Some(a) => a * base,
+                });
+            }
+            e >>= 1;
+            if e == 0 {
+                break;
+            }
+            base = base.sqr();
+        }
+        let p = acc.unwrap_or(self);
+        if n < 0 { p.recip() } else { p }
+    }
+    #[inline]
+    fn powf(self, p: T) -> Self {
+        Affine::from_interval(self.to_interval().pow(p))
+    }
+    #[inline]
+    fn sqrt(self) -> Self {
+        Affine::sqrt(self)
+    }
+    #[inline]
+    fn recip(self) -> Self {
+        Affine::recip(self)
+    }
+    #[inline]
+    fn exp(self) -> Self {
+        Affine::exp(self)
+    }
+    #[inline]
+    fn ln(self) -> Self {
+        Affine::ln(self)
+    }
+    #[inline]
+    fn abs(self) -> Self {
+        Affine::abs(self)
+    }
+    #[inline]
+    fn min(self, o: Self) -> Self {
+        Affine::min(self, o)
+    }
+    #[inline]
+    fn max(self, o: Self) -> Self {
+        Affine::max(self, o)
+    }
+}

@@ -1,0 +1,441 @@
+//! Sound helpers on one bounding polynomial `s + a·τ + b·τ²`, `τ ∈ [0, h]`.
+//!
+//! Every forward bound is a pair of such *sides* (paper eq. 18, Horner form
+//! in the local parameter `τ = t − t₀ ≥ 0`). Because `τ ≥ 0` and `τ² ≥ 0`,
+//! rounding each coefficient of a lower side down (of an upper side up) keeps
+//! it a lower (upper) bound: that is how every rule here stays sound in
+//! floating point without touching the rounding mode.
+//!
+//! The functions never panic and never return NaN: a product `0 · ∞` counts as
+//! `0` (a zero coefficient contributes nothing on a bounded range), and any
+//! NaN that `∞ − ∞` would produce becomes `−∞` in a lower and `+∞` in an upper
+//! bound.
+
+use boundtrace_ia_core::Real;
+use boundtrace_ia_core::round::{add_down, add_up, div_down, div_up, mul_down, mul_up, sqrt_down};
+
+/// `a · b` rounded down; `0 · x = 0`; NaN → `−∞`.
+#[inline]
+pub(crate) fn mul_lo<T: Real>(a: T, b: T) -> T {
+    if a == T::ZERO || b == T::ZERO {
+        return T::ZERO;
+    }
+    lo_nan(mul_down(a, b))
+}
+
+/// `a · b` rounded up; `0 · x = 0`; NaN → `+∞`.
+#[inline]
+pub(crate) fn mul_hi<T: Real>(a: T, b: T) -> T {
+    if a == T::ZERO || b == T::ZERO {
+        return T::ZERO;
+    }
+    hi_nan(mul_up(a, b))
+}
+
+/// `a + b` rounded down; NaN → `−∞`.
+#[inline]
+pub(crate) fn add_lo<T: Real>(a: T, b: T) -> T {
+    lo_nan(add_down(a, b))
+}
+
+/// `a + b` rounded up; NaN → `+∞`.
+#[inline]
+pub(crate) fn add_hi<T: Real>(a: T, b: T) -> T {
+    hi_nan(add_up(a, b))
+}
+
+/// `a − b` rounded down.
+#[inline]
+pub(crate) fn sub_lo<T: Real>(a: T, b: T) -> T {
+    add_lo(a, -b)
+}
+
+/// `a − b` rounded up.
+#[inline]
+pub(crate) fn sub_hi<T: Real>(a: T, b: T) -> T {
+    add_hi(a, -b)
+}
+
+/// `a / b` rounded down; NaN → `−∞`.
+#[inline]
+pub(crate) fn div_lo<T: Real>(a: T, b: T) -> T {
+    if a == T::ZERO {
+        return T::ZERO;
+    }
+    lo_nan(div_down(a, b))
+}
+
+/// `a / b` rounded up; NaN → `+∞`.
+#[inline]
+pub(crate) fn div_hi<T: Real>(a: T, b: T) -> T {
+    if a == T::ZERO {
+        return T::ZERO;
+    }
+    hi_nan(div_up(a, b))
+}
+
+#[inline]
+pub(crate) fn lo_nan<T: Real>(x: T) -> T {
+    if x.is_nan() { T::NEG_INFINITY } else { x }
+}
+
+#[inline]
+pub(crate) fn hi_nan<T: Real>(x: T) -> T {
+    if x.is_nan() { T::INFINITY } else { x }
+}
+
+/// `min` that ignores nothing: a NaN operand gives `−∞` (used for lower bounds).
+#[inline]
+pub(crate) fn min_lo<T: Real>(a: T, b: T) -> T {
+    if a.is_nan() || b.is_nan() {
+        T::NEG_INFINITY
+    } else if a < b {
+        a
+    } else {
+        b
+    }
+}
+
+/// `max` that gives `+∞` on a NaN operand (used for upper bounds).
+#[inline]
+pub(crate) fn max_hi<T: Real>(a: T, b: T) -> T {
+    if a.is_nan() || b.is_nan() {
+        T::INFINITY
+    } else if a > b {
+        a
+    } else {
+        b
+    }
+}
+
+/// A lower bound of `num / (x_hi − x_lo)` for `x_hi > x_lo`, where `num` is
+/// already a lower bound of the numerator.
+#[inline]
+pub(crate) fn slope_lo<T: Real>(num: T, x_hi: T, x_lo: T) -> T {
+    if num >= T::ZERO {
+        div_lo(num, sub_hi(x_hi, x_lo))
+    } else {
+        div_lo(num, sub_lo(x_hi, x_lo))
+    }
+}
+
+/// An upper bound of `num / (x_hi − x_lo)` for `x_hi > x_lo`, where `num` is
+/// already an upper bound of the numerator.
+#[inline]
+pub(crate) fn slope_hi<T: Real>(num: T, x_hi: T, x_lo: T) -> T {
+    if num >= T::ZERO {
+        div_hi(num, sub_lo(x_hi, x_lo))
+    } else {
+        div_hi(num, sub_hi(x_hi, x_lo))
+    }
+}
+
+/// One bounding polynomial `s + a·τ + b·τ²` of the local ray parameter.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Side<T> {
+    pub s: T,
+    pub a: T,
+    pub b: T,
+}
+
+impl<T: Real> Side<T> {
+    #[inline]
+    pub fn new(s: T, a: T, b: T) -> Self {
+        Self { s, a, b }
+    }
+
+    /// The constant side `c`.
+    #[inline]
+    pub fn constant(c: T) -> Self {
+        Self::new(c, T::ZERO, T::ZERO)
+    }
+
+    #[inline]
+    pub fn neg(self) -> Self {
+        Self::new(-self.s, -self.a, -self.b)
+    }
+
+    /// `s + τ(a + bτ)` rounded down (`τ ≥ 0`).
+    #[inline]
+    pub fn at_lo(self, tau: T) -> T {
+        if tau == T::ZERO {
+            return self.s;
+        }
+        add_lo(self.s, mul_lo(tau, add_lo(self.a, mul_lo(self.b, tau))))
+    }
+
+    /// `s + τ(a + bτ)` rounded up (`τ ≥ 0`).
+    #[inline]
+    pub fn at_hi(self, tau: T) -> T {
+        if tau == T::ZERO {
+            return self.s;
+        }
+        add_hi(self.s, mul_hi(tau, add_hi(self.a, mul_hi(self.b, tau))))
+    }
+
+    /// A sound enclosure `(lo, hi)` of the side's range over `τ ∈ [0, h]`.
+    pub fn range(self, h: T) -> (T, T) {
+        let mut lo = min_lo(self.s, self.at_lo(h));
+        let mut hi = max_hi(self.s, self.at_hi(h));
+        let (a, b) = (self.a, self.b);
+        if b != T::ZERO && (a < T::ZERO) != (b < T::ZERO) && a != T::ZERO {
+            // The vertex τv = −a/(2b) > 0; include its value when it may lie
+            // in [0, h] (a generous test: including it is always sound).
+            let tv = -a / (b + b);
+            if !(tv > h * (T::ONE + T::from_f64(1.0 / 1024.0))) {
+                let aa = mul_hi(a, a);
+                if b > T::ZERO {
+                    let v = sub_lo(self.s, div_hi(aa, mul_lo(T::from_f64(4.0), b)));
+                    lo = min_lo(lo, v);
+                } else {
+                    let v = add_hi(self.s, div_hi(aa, mul_lo(T::from_f64(4.0), -b)));
+                    hi = max_hi(hi, v);
+                }
+            }
+        }
+        (lo, hi)
+    }
+
+    /// Whether `u(τ) = τ(a + bτ)` may be positive / negative somewhere on
+    /// `(0, h]` (a `false` is proven).
+    #[inline]
+    pub fn may_rise_fall(self, h: T) -> (bool, bool) {
+        let (a, b) = (self.a, self.b);
+        let rise = !(a <= T::ZERO && add_hi(a, mul_hi(b, h)) <= T::ZERO);
+        let fall = !(a >= T::ZERO && add_lo(a, mul_lo(b, h)) >= T::ZERO);
+        (rise, fall)
+    }
+
+    /// Folds the `τ²` term into the slope over `[0, h]` (quadratic → linear):
+    /// `bτ² ≥ min(0, b·h)·τ` for a lower side.
+    #[inline]
+    pub fn to_linear_lo(self, h: T) -> Self {
+        let bh = if self.b < T::ZERO {
+            mul_lo(self.b, h)
+        } else {
+            T::ZERO
+        };
+        Self::new(self.s, add_lo(self.a, bh), T::ZERO)
+    }
+
+    /// Upper-side counterpart of [`to_linear_lo`](Self::to_linear_lo).
+    #[inline]
+    pub fn to_linear_hi(self, h: T) -> Self {
+        let bh = if self.b > T::ZERO {
+            mul_hi(self.b, h)
+        } else {
+            T::ZERO
+        };
+        Self::new(self.s, add_hi(self.a, bh), T::ZERO)
+    }
+}
+
+/// Coefficient-wise sum of two lower sides (rounded down).
+#[inline]
+pub(crate) fn add_sides_lo<T: Real>(p: Side<T>, q: Side<T>) -> Side<T> {
+    Side::new(add_lo(p.s, q.s), add_lo(p.a, q.a), add_lo(p.b, q.b))
+}
+
+/// Coefficient-wise sum of two upper sides (rounded up).
+#[inline]
+pub(crate) fn add_sides_hi<T: Real>(p: Side<T>, q: Side<T>) -> Side<T> {
+    Side::new(add_hi(p.s, q.s), add_hi(p.a, q.a), add_hi(p.b, q.b))
+}
+
+/// Coefficient-wise minimum: a lower bound of both (`τ, τ² ≥ 0`).
+#[inline]
+pub(crate) fn min_sides<T: Real>(p: Side<T>, q: Side<T>) -> Side<T> {
+    Side::new(min_lo(p.s, q.s), min_lo(p.a, q.a), min_lo(p.b, q.b))
+}
+
+/// Coefficient-wise maximum: an upper bound of both.
+#[inline]
+pub(crate) fn max_sides<T: Real>(p: Side<T>, q: Side<T>) -> Side<T> {
+    Side::new(max_hi(p.s, q.s), max_hi(p.a, q.a), max_hi(p.b, q.b))
+}
+
+/// `p · q` for scalars, both roundings.
+#[inline]
+fn prod<T: Real>(p: T, q: T) -> (T, T) {
+    (mul_lo(p, q), mul_hi(p, q))
+}
+
+/// The quartic `p·q = c₀ + c₁τ + c₂τ² + c₃τ³ + c₄τ⁴`, each coefficient as
+/// `(lower, upper)` bounds.
+pub(crate) fn quartic<T: Real>(p: Side<T>, q: Side<T>) -> [(T, T); 5] {
+    let sum = |xs: &[(T, T)]| {
+        let mut lo = T::ZERO;
+        let mut hi = T::ZERO;
+        let mut i = 0;
+        while i < xs.len() {
+            lo = add_lo(lo, xs[i].0);
+            hi = add_hi(hi, xs[i].1);
+            i += 1;
+        }
+        (lo, hi)
+    };
+    [
+        prod(p.s, q.s),
+        sum(&[prod(p.s, q.a), prod(p.a, q.s)]),
+        sum(&[prod(p.s, q.b), prod(p.a, q.a), prod(p.b, q.s)]),
+        sum(&[prod(p.a, q.b), prod(p.b, q.a)]),
+        prod(p.b, q.b),
+    ]
+}
+
+/// A lower bound of `min_{τ∈[0,h]} (c₂ + c₃τ + c₄τ²)` from lower coefficients.
+fn min_tail<T: Real>(c2: T, c3: T, c4: T, h: T) -> T {
+    let r = Side::new(c2, c3, c4);
+    r.range(h).0
+}
+
+/// Degree reduction of a quartic (given by coefficient bounds) to a lower
+/// quadratic side exact in value and slope at `τ = 0`:
+/// `c₀ + c₁τ + β τ²` with `β = min_{[0,h]} (c₂ + c₃τ + c₄τ²)`, the tightest
+/// curvature that keeps `c₀`, `c₁`.
+pub(crate) fn reduce_lo<T: Real>(c: [(T, T); 5], h: T) -> Side<T> {
+    Side::new(c[0].0, c[1].0, min_tail(c[2].0, c[3].0, c[4].0, h))
+}
+
+/// Upper counterpart of [`reduce_lo`].
+pub(crate) fn reduce_hi<T: Real>(c: [(T, T); 5], h: T) -> Side<T> {
+    let r = Side::new(c[2].1, c[3].1, c[4].1);
+    Side::new(c[0].1, c[1].1, r.range(h).1)
+}
+
+/// Proves `s + aτ + bτ² ≥ 0` on `[0, r]` (given `s > 0`, `r ≥ 0`).
+fn nonneg_on<T: Real>(q: Side<T>, r: T) -> bool {
+    if r.is_nan() || q.at_lo(r) < T::ZERO {
+        return false;
+    }
+    let (s, a, b) = (q.s, q.a, q.b);
+    if b <= T::ZERO || a >= T::ZERO {
+        // Concave (or linear), or convex and increasing from τ = 0: nonnegative
+        // at both ends means nonnegative in between.
+        return true;
+    }
+    // Convex and decreasing at 0: fine while r is before the vertex −a/(2b),
+    // or if the vertex value itself is nonnegative.
+    if mul_hi(b + b, r) <= -a {
+        return true;
+    }
+    sub_lo(s, div_hi(mul_hi(a, a), mul_lo(T::from_f64(4.0), b))) >= T::ZERO
+}
+
+/// A float estimate of the least positive root of `s + aτ + bτ²` (`s > 0`),
+/// or `h` when there is none (numerically stable: no cancellation).
+fn root_estimate<T: Real>(q: Side<T>, h: T) -> T {
+    let (s, a, b) = (q.s, q.a, q.b);
+    if b == T::ZERO {
+        return if a < T::ZERO { s / -a } else { h };
+    }
+    let disc = a * a - T::from_f64(4.0) * b * s;
+    if !(disc >= T::ZERO) {
+        // No real root in floats: the closest approach is the vertex.
+        let tv = -a / (b + b);
+        return if tv > T::ZERO { tv } else { h };
+    }
+    let sq = disc.sqrt();
+    let qq = if a >= T::ZERO {
+        -(a + sq) * T::HALF
+    } else {
+        (sq - a) * T::HALF
+    };
+    let r1 = qq / b;
+    let r2 = if qq != T::ZERO { s / qq } else { T::INFINITY };
+    let mut best = h;
+    if r1 > T::ZERO && r1 < best {
+        best = r1;
+    }
+    if r2 > T::ZERO && r2 < best {
+        best = r2;
+    }
+    best
+}
+
+/// The safe step for a side that starts positive (`s > 0`): `None` when the
+/// side is proven `≥ 0` on all of `[0, h]`, otherwise `Some(r)` with
+/// `0 ≤ r ≤ h` and the side proven `≥ 0` on `[0, r]` (so a function bounded
+/// below by it has no root in `[0, r)`). `r` is within a few float steps below
+/// the side's exact first root, except in rare ill-conditioned cases where the
+/// crude bound `s / (|a| + |b|·h)` is returned instead.
+pub(crate) fn safe_root_pos<T: Real>(q: Side<T>, h: T) -> Option<T> {
+    if q.a.is_nan() || q.b.is_nan() {
+        return Some(T::ZERO);
+    }
+    if q.a == T::NEG_INFINITY || q.b == T::NEG_INFINITY {
+        return Some(T::ZERO);
+    }
+    if nonneg_on(q, h) {
+        return None;
+    }
+    let mut r = root_estimate(q, h);
+    if !(r <= h) {
+        r = h;
+    }
+    if !(r >= T::ZERO) {
+        r = T::ZERO;
+    }
+    let mut k = 0u32;
+    while k < 12 {
+        if nonneg_on(q, r) {
+            return Some(r);
+        }
+        r = r.next_down_n(1u32 << k).max(T::ZERO);
+        k += 1;
+    }
+    let slope = add_hi(q.a.abs(), mul_hi(q.b.abs(), h));
+    let crude = div_lo(q.s, slope);
+    Some(if crude < h { crude.max(T::ZERO) } else { h })
+}
+
+/// `√x` rounded down for `x ≥ 0`.
+#[allow(dead_code)]
+#[inline]
+pub(crate) fn sqrt_lo<T: Real>(x: T) -> T {
+    sqrt_down(x)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn range_includes_vertex() {
+        let q = Side::new(1.0f64, -2.0, 1.0); // (τ−1)², min 0 at τ=1
+        let (lo, hi) = q.range(3.0);
+        assert!(lo <= 0.0 && lo > -1e-12);
+        assert!((4.0..4.0 + 1e-12).contains(&hi));
+    }
+
+    #[test]
+    fn safe_root_never_passes() {
+        // 1 − 3τ + 2τ² = (1 − τ)(1 − 2τ): roots 0.5 and 1.
+        let q = Side::new(1.0f64, -3.0, 2.0);
+        let r = safe_root_pos(q, 2.0).unwrap();
+        assert!(r <= 0.5 && r > 0.5 - 1e-12);
+        // Touching parabola (τ − 1)² + tiny: no root.
+        let q = Side::new(1.0f64 + 1e-9, -2.0, 1.0);
+        assert_eq!(safe_root_pos(q, 0.5), None);
+        // Concave: 1 + τ − τ², root (1+√5)/2.
+        let q = Side::new(1.0f64, 1.0, -1.0);
+        let r = safe_root_pos(q, 10.0).unwrap();
+        let exact = (1.0 + 5f64.sqrt()) / 2.0;
+        assert!(r <= exact && r > exact - 1e-12);
+    }
+
+    #[test]
+    fn quartic_reduction_bounds_product() {
+        let p = Side::new(1.0f64, -1.0, 0.5);
+        let q = Side::new(2.0f64, 0.5, -0.25);
+        let h = 2.0;
+        let c = quartic(p, q);
+        let lo = reduce_lo(c, h);
+        let hi = reduce_hi(c, h);
+        for i in 0..=100 {
+            let t = h * i as f64 / 100.0;
+            let exact = (1.0 - t + 0.5 * t * t) * (2.0 + 0.5 * t - 0.25 * t * t);
+            assert!(lo.at_lo(t) <= exact + 1e-12 && hi.at_hi(t) >= exact - 1e-12);
+        }
+    }
+}

@@ -1,0 +1,847 @@
+//! [`ForwardQuadratic`]: asymmetric quadratic forward inclusion functions
+//! (forward-inclusion paper §6, App. B–C).
+
+use crate::compose::{self, Composition, Line, Unary};
+use crate::poly::{
+    self, Side, add_hi, add_lo, add_sides_hi, add_sides_lo, div_hi, div_lo, max_hi, max_sides,
+    min_sides, mul_hi, mul_lo, sub_hi, sub_lo,
+};
+use boundtrace_ia_core::round::sub_down;
+use boundtrace_ia_core::{Interval, Real};
+use core::ops::{Add, Div, Mul, Neg, Sub};
+
+/// A quadratic forward inclusion function: bounds of a function `f` of the
+/// ray parameter on `[t₀, t₀ + h]` (forward-inclusion paper eq. 18)
+///
+/// ```text
+/// f₋(t) = s₋ + τ (a₋ + b₋ τ)  ≤  f(t)  ≤  f₊(t) = s₊ + τ (a₊ + b₊ τ),   τ = t − t₀ ∈ [0, h]
+/// ```
+///
+/// **Exact at `t₀`** (paper eq. 5) up to rounding: `[s₋, s₊]` is the
+/// enclosure of `f(t₀)` that [`Interval`] arithmetic computes at the point
+/// `t₀` (its width is the *margin*, a few float steps; see the crate docs),
+/// and the lower and upper quadratics are independent (asymmetric).
+///
+/// `h` is the **validity length**: an operation that is only valid on part
+/// of the interval (a pole of `1/x` or `ln x`, a chord that cannot stay exact
+/// at `t₀`, see [`Composition`]) shortens it instead of returning an infinite
+/// bound (paper §4.2); [`validity`](Self::validity) reports it.
+///
+/// Arithmetic follows the bottom-up rules of §6.2: sums and scalar products
+/// coefficient-wise; products as the four corner quartics reduced to
+/// quadratics that keep value and slope at `t₀`; monotone convex/concave
+/// functions by tangent and chord lines in the argument (App. B);
+/// `max`/`min` by Bézier control points (App. C). Every coefficient is
+/// rounded outward, so the bounds are sound in floating point.
+///
+/// Functions are evaluated with IEEE 1788 domain semantics: `sqrt` and a
+/// non-integer [`powf`](Self::powf) bound `φ(max(x, 0))`, so they hold
+/// wherever the exact expression is defined. An operation that is undefined
+/// at `t₀` itself (`1/x` with `0` in the start enclosure, `ln` of a
+/// non-positive start) makes the result *invalid*: [`is_valid`](Self::is_valid)
+/// is `false` and its validity length `0`.
+///
+/// ```
+/// use boundtrace_inclusion::ForwardQuadratic;
+///
+/// // f(t) = (t − 1)² − 0.25 on [0, 3]: a root at t = 0.5.
+/// let t = ForwardQuadratic::<f64>::ray_param(0.0, 3.0);
+/// let f = (t - 1.0).sqr() - 0.25;
+/// assert!(f.start().contains(0.75)); // exact at t₀ = 0
+/// let step = f.safe_step(); // never passes the root
+/// assert!(step <= 0.5 && step > 0.5 - 1e-12);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C)]
+pub struct ForwardQuadratic<T> {
+    start: Interval<T>,
+    lo: [T; 2],
+    hi: [T; 2],
+    h: T,
+    mode: Composition,
+}
+
+impl<T: Real> ForwardQuadratic<T> {
+    /// The invalid bound (undefined at `t₀`).
+    pub const INVALID: Self = Self {
+        start: Interval::EMPTY,
+        lo: [T::ZERO; 2],
+        hi: [T::ZERO; 2],
+        h: T::ZERO,
+        mode: Composition::ValidityInterval,
+    };
+
+    /// Builds a bound from its parts: start enclosure `[s₋, s₊]`, lower
+    /// coefficients `(a₋, b₋)`, upper `(a₊, b₊)` and validity length `h`.
+    ///
+    /// The caller vouches that these bound the function; use the operators
+    /// or [`taylor`](Self::taylor) to derive sound ones. A NaN part, a
+    /// negative `h` or an empty start gives [`INVALID`](Self::INVALID).
+    pub fn from_parts(start: Interval<T>, lo: [T; 2], hi: [T; 2], h: T) -> Self {
+        let nan = lo[0].is_nan() || lo[1].is_nan() || hi[0].is_nan() || hi[1].is_nan();
+        if start.is_empty() || nan || !(h >= T::ZERO) {
+            return Self::INVALID;
+        }
+        Self {
+            start,
+            lo,
+            hi,
+            h,
+            mode: Composition::ValidityInterval,
+        }
+    }
+
+    /// The constant `c` (valid on any interval: `h = +∞`).
+    pub fn constant(c: T) -> Self {
+        Self::from_parts(Interval::point(c), [T::ZERO; 2], [T::ZERO; 2], T::INFINITY)
+    }
+
+    /// The ray parameter `t` itself on `[t0, t1]`: value `t₀`, slope `1`.
+    ///
+    /// `h = t1 − t0` rounded down, so `t₀ + h ≤ t1`. Non-finite bounds or
+    /// `t1 < t0` give [`INVALID`](Self::INVALID).
+    pub fn ray_param(t0: T, t1: T) -> Self {
+        Self::ray_param_with(t0, t1, Composition::default())
+    }
+
+    /// [`ray_param`](Self::ray_param) with a choice of [`Composition`]
+    /// variant, which every bound computed from it inherits.
+    pub fn ray_param_with(t0: T, t1: T, mode: Composition) -> Self {
+        if !t0.is_finite() || !t1.is_finite() || t1 < t0 {
+            return Self::INVALID;
+        }
+        let mut r = Self::from_parts(
+            Interval::point(t0),
+            [T::ONE, T::ZERO],
+            [T::ONE, T::ZERO],
+            sub_down(t1, t0),
+        );
+        r.mode = mode;
+        r
+    }
+
+    /// Quadratic Taylor inclusion (paper §6.1, eq. 19): from an enclosure of
+    /// `f(t₀)`, of `f'(t₀)` and of `f''` over the whole interval,
+    /// `f(t₀) + τ (f'(t₀) + ½ f''(ξ±) τ)`. Sound when the inputs are
+    /// enclosures; an empty input gives [`INVALID`](Self::INVALID).
+    pub fn taylor(value: Interval<T>, d1: Interval<T>, d2: Interval<T>, h: T) -> Self {
+        if value.is_empty() || d1.is_empty() || d2.is_empty() {
+            return Self::INVALID;
+        }
+        Self::from_parts(
+            value,
+            [d1.lo(), mul_lo(d2.lo(), T::HALF)],
+            [d1.hi(), mul_hi(d2.hi(), T::HALF)],
+            h,
+        )
+    }
+
+    /// Whether the bound is defined (its start enclosure is non-empty).
+    #[inline]
+    pub fn is_valid(&self) -> bool {
+        !self.start.is_empty()
+    }
+
+    /// The enclosure `[s₋, s₊]` of `f(t₀)`.
+    #[inline]
+    pub fn start(&self) -> Interval<T> {
+        self.start
+    }
+
+    /// Lower coefficients `(a₋, b₋)`.
+    #[inline]
+    pub fn lower_coeffs(&self) -> [T; 2] {
+        self.lo
+    }
+
+    /// Upper coefficients `(a₊, b₊)`.
+    #[inline]
+    pub fn upper_coeffs(&self) -> [T; 2] {
+        self.hi
+    }
+
+    /// The validity length `h`: the bounds hold for `τ = t − t₀ ∈ [0, h]`.
+    #[inline]
+    pub fn validity(&self) -> T {
+        self.h
+    }
+
+    /// The validity end `t₁' = t₀ + h`, rounded down (so `≤` the exact end).
+    #[inline]
+    pub fn validity_end(&self, t0: T) -> T {
+        boundtrace_ia_core::round::add_down(t0, self.h)
+    }
+
+    /// The [`Composition`] variant this bound was computed with.
+    #[inline]
+    pub fn composition(&self) -> Composition {
+        self.mode
+    }
+
+    /// A sound enclosure `[f₋(τ), f₊(τ)]` at `τ = t − t₀` (rounded outward).
+    /// Meaningful for `τ ∈ [0, h]`.
+    #[inline]
+    pub fn bounds_at(&self, tau: T) -> Interval<T> {
+        if !self.is_valid() {
+            return Interval::EMPTY;
+        }
+        let (l, u) = (self.lower_side().at_lo(tau), self.upper_side().at_hi(tau));
+        if l <= u {
+            Interval::new(l, u)
+        } else {
+            Interval::new(u, l)
+        }
+    }
+
+    /// A sound enclosure of `f` over the whole validity interval.
+    pub fn range(&self) -> Interval<T> {
+        if !self.is_valid() {
+            return Interval::EMPTY;
+        }
+        Interval::new(
+            self.lower_side().range(self.h).0,
+            self.upper_side().range(self.h).1,
+        )
+    }
+
+    /// The first `τ ∈ [0, h]` where the bound on the relevant side reaches
+    /// `0`, or `None` if it provably does not (paper Alg. 1
+    /// `CalcNextRoot`).
+    ///
+    /// Outside (`s₋ > 0`) the lower bound is used, inside (`s₊ < 0`) the
+    /// upper one; if the start enclosure contains `0` the answer is
+    /// `Some(0)`, as it is for an invalid bound. The returned `τ` **never
+    /// passes the first root of `f`**: the side is proven nonzero on
+    /// `[0, τ)` in outward-rounded arithmetic. Quadratic roots use the
+    /// cancellation-free formula and are then backed off, if needed, by a few
+    /// float steps until that proof succeeds.
+    pub fn first_root(&self) -> Option<T> {
+        if !self.is_valid() {
+            return Some(T::ZERO);
+        }
+        if self.start.lo() > T::ZERO {
+            poly::safe_root_pos(self.lower_side(), self.h)
+        } else if self.start.hi() < T::ZERO {
+            poly::safe_root_pos(self.upper_side().neg(), self.h)
+        } else {
+            Some(T::ZERO)
+        }
+    }
+
+    /// The safe marching step: [`first_root`](Self::first_root), or the
+    /// whole validity length `h` when the bound has no root.
+    #[inline]
+    pub fn safe_step(&self) -> T {
+        self.first_root().unwrap_or(self.h)
+    }
+
+    /// "Mixed" bounds (paper §7): of two bounds of the same function on the
+    /// same ray interval (e.g. Taylor and bottom-up), keep on each side the
+    /// one that is tighter at the end of their common validity interval.
+    pub fn tighter(self, other: Self) -> Self {
+        if !self.is_valid() {
+            return other;
+        }
+        if !other.is_valid() {
+            return self;
+        }
+        let h = if self.h < other.h { self.h } else { other.h };
+        let (l1, l2) = (self.lower_side(), other.lower_side());
+        let (u1, u2) = (self.upper_side(), other.upper_side());
+        let pick_l1 = l1.at_lo(h) >= l2.at_lo(h);
+        let pick_u1 = u1.at_hi(h) <= u2.at_hi(h);
+        let lo = if pick_l1 { l1 } else { l2 };
+        let hi = if pick_u1 { u1 } else { u2 };
+        let hh = match (pick_l1, pick_u1) {
+            (true, true) => self.h,
+            (false, false) => other.h,
+            _ => h,
+        };
+        Self::from_sides(lo, hi, hh, self.mode.join(other.mode))
+    }
+
+    // ----- internals -------------------------------------------------------
+
+    #[inline]
+    pub(crate) fn lower_side(&self) -> Side<T> {
+        Side::new(self.start.lo(), self.lo[0], self.lo[1])
+    }
+
+    #[inline]
+    pub(crate) fn upper_side(&self) -> Side<T> {
+        Side::new(self.start.hi(), self.hi[0], self.hi[1])
+    }
+
+    #[inline]
+    pub(crate) fn from_sides(lo: Side<T>, hi: Side<T>, h: T, mode: Composition) -> Self {
+        let start = Interval::new(lo.s, hi.s);
+        let mut r = Self::from_parts(start, [lo.a, lo.b], [hi.a, hi.b], h);
+        r.mode = mode;
+        r
+    }
+
+    #[inline]
+    fn min_h(&self, other: &Self) -> T {
+        if self.h < other.h { self.h } else { other.h }
+    }
+
+    /// An invalid result keeping the interval-arithmetic start value.
+    #[inline]
+    fn invalid_with(start: Interval<T>) -> Self {
+        let mut r = Self::INVALID;
+        if !start.is_empty() {
+            // Keep the (unbounded) start enclosure for diagnostics, h = 0.
+            r.start = start;
+            r.lo = [T::NEG_INFINITY; 2];
+            r.hi = [T::INFINITY; 2];
+        }
+        r
+    }
+
+    /// Length up to which the side `q` (with `q.s > 0`) stays `≥ q.s / 2`.
+    fn half_way(q: Side<T>, h: T) -> T {
+        let half = mul_hi(q.s, T::HALF);
+        let shifted = Side::new(sub_lo(q.s, half), q.a, q.b);
+        if !(shifted.s > T::ZERO) {
+            return T::ZERO;
+        }
+        poly::safe_root_pos(shifted, h).unwrap_or(h)
+    }
+
+    /// `x²` (tighter than `x · x`): exact polynomial squares of the sides
+    /// where they keep their sign, the tangent `2x*·x − x*²` otherwise.
+    pub fn sqr(self) -> Self {
+        if !self.is_valid() {
+            return self;
+        }
+        let (fl, fu) = (self.lower_side(), self.upper_side());
+        let h = self.h;
+        let lower = if fl.range(h).0 >= T::ZERO {
+            poly::reduce_lo(poly::quartic(fl, fl), h)
+        } else if fu.range(h).1 <= T::ZERO {
+            poly::reduce_lo(poly::quartic(fu, fu), h)
+        } else if fl.s > T::ZERO {
+            let d = fl.s + fl.s;
+            compose::compose_line(
+                Line {
+                    l0: mul_lo(fl.s, fl.s),
+                    dl: d,
+                    dr: d,
+                },
+                fl,
+                false,
+            )
+        } else if fu.s < T::ZERO {
+            let d = fu.s + fu.s;
+            compose::compose_line(
+                Line {
+                    l0: mul_lo(fu.s, fu.s),
+                    dl: d,
+                    dr: d,
+                },
+                fu,
+                false,
+            )
+        } else {
+            Side::constant(T::ZERO)
+        };
+        // The side may cross zero: the corner products also bound x² from
+        // below (x² ≥ min(f₋², f₊², f₋f₊) for f₋ ≤ x ≤ f₊), which is nearly
+        // exact for a thin band (e.g. the square of a coordinate).
+        let corners = min_sides(
+            min_sides(
+                poly::reduce_lo(poly::quartic(fl, fl), h),
+                poly::reduce_lo(poly::quartic(fu, fu), h),
+            ),
+            poly::reduce_lo(poly::quartic(fl, fu), h),
+        );
+        let lower = better_lower(lower, corners, h);
+        let upper = max_sides(
+            poly::reduce_hi(poly::quartic(fl, fl), h),
+            poly::reduce_hi(poly::quartic(fu, fu), h),
+        );
+        Self::from_sides(lower, upper, h, self.mode)
+    }
+
+    /// `xⁿ` for an integer `n`: `sqr` and products by binary powering;
+    /// negative `n` as `1 / x^|n|`; `x⁰ = 1`.
+    pub fn powi(self, n: i32) -> Self {
+        if !self.is_valid() {
+            return self;
+        }
+        if n < 0 {
+            return self.powi_pos(n.unsigned_abs()).recip();
+        }
+        self.powi_pos(n as u32)
+    }
+
+    fn powi_pos(self, n: u32) -> Self {
+        if n == 0 {
+            let mut one = Self::constant(T::ONE);
+            one.h = self.h;
+            one.mode = self.mode;
+            return one;
+        }
+        // Binary powering, iterative (no recursion: runs on the GPU).
+        let mut result: Option<Self> = None;
+        let mut base = self;
+        let mut e = n;
+        loop {
+            if e & 1 == 1 {
+                result = Some(match result {
+                    None => base,
+                    Some(r) => r * base,
+                });
+            }
+            e >>= 1;
+            if e == 0 {
+                break;
+            }
+            base = base.sqr();
+        }
+        match result {
+            Some(r) => r,
+            None => self,
+        }
+    }
+
+    /// `1/x`: convex decreasing for `x > 0`, concave decreasing for `x < 0`.
+    /// The interval is shortened so that the input stays at least half way
+    /// from `0` (its start value halved), keeping the chord slopes finite.
+    pub fn recip(self) -> Self {
+        self.monotone(Unary::Recip)
+    }
+
+    /// `eˣ`: convex increasing.
+    pub fn exp(self) -> Self {
+        self.monotone(Unary::Exp)
+    }
+
+    /// `ln x`: concave increasing; needs a positive start, shortened like
+    /// [`recip`](Self::recip).
+    pub fn ln(self) -> Self {
+        self.monotone(Unary::Ln)
+    }
+
+    /// `√x` (bounded as `√max(x, 0)`): concave increasing. When the upper
+    /// input starts exactly at `0` no finite slope is exact at `t₀` (the
+    /// derivative is infinite): that side is then the constant `√max f₊`, a
+    /// relaxed start (the one case where the start enclosure is wider than
+    /// the rounding margin).
+    pub fn sqrt(self) -> Self {
+        self.monotone(Unary::Sqrt)
+    }
+
+    /// `x^p` for a real `p`: an integer `p` uses [`powi`](Self::powi);
+    /// otherwise `max(x, 0)^p` for `p > 0` (convex for `p > 1`, concave and
+    /// sqrt-like for `p < 1`), and for `p < 0` convex decreasing on `x > 0`,
+    /// shortened like [`recip`](Self::recip).
+    pub fn powf(self, p: T) -> Self {
+        if p.is_nan() {
+            return Self::INVALID;
+        }
+        if p == p.round() && p.abs() < T::from_f64(2147483647.0) {
+            return self.powi(p.to_i32().unwrap_or(0));
+        }
+        self.monotone(Unary::Pow(p))
+    }
+
+    fn monotone(self, phi: Unary<T>) -> Self {
+        if !self.is_valid() {
+            return self;
+        }
+        let start = phi.eval(self.start);
+        if start.is_empty() {
+            return Self::INVALID;
+        }
+        let (fl, fu) = (self.lower_side(), self.upper_side());
+        let mode = self.mode;
+        let mut h = self.h;
+        let pos = self.start.lo() > T::ZERO;
+        let neg = self.start.hi() < T::ZERO;
+        match phi {
+            Unary::Exp => {
+                let lower = compose::tangent(phi, fl, false);
+                let (upper, h2) = compose::chord(phi, fu, h, true, mode, false);
+                Self::from_sides(lower, upper, h2, mode)
+            }
+            Unary::Recip | Unary::Ln => {
+                if pos {
+                    h = Self::half_way(fl, h);
+                    if phi == Unary::Recip {
+                        // convex decreasing
+                        let lower = compose::tangent(phi, fu, false);
+                        let (upper, h2) = compose::chord(phi, fl, h, true, mode, false);
+                        Self::from_sides(lower, upper, h2, mode)
+                    } else {
+                        // concave increasing
+                        let upper = compose::tangent(phi, fu, true);
+                        let (lower, h2) = compose::chord(phi, fl, h, false, mode, false);
+                        Self::from_sides(lower, upper, h2, mode)
+                    }
+                } else if neg && phi == Unary::Recip {
+                    // concave decreasing on x < 0
+                    h = Self::half_way(fu.neg(), h);
+                    let upper = compose::tangent(phi, fl, true);
+                    let (lower, h2) = compose::chord(phi, fu, h, false, mode, false);
+                    Self::from_sides(lower, upper, h2, mode)
+                } else {
+                    Self::invalid_with(start)
+                }
+            }
+            Unary::Pow(p) if p < T::ZERO => {
+                if !pos {
+                    return Self::invalid_with(start);
+                }
+                h = Self::half_way(fl, h);
+                let lower = compose::tangent(phi, fu, false);
+                let (upper, h2) = compose::chord(phi, fl, h, true, mode, false);
+                Self::from_sides(lower, upper, h2, mode)
+            }
+            Unary::Pow(p) if p > T::ONE => {
+                // max(x, 0)^p is convex increasing on all of ℝ.
+                let lower = if pos {
+                    compose::tangent(phi, fl, false)
+                } else {
+                    Side::constant(T::ZERO)
+                };
+                let (upper, h2) = compose::chord(phi, fu, h, true, mode, true);
+                Self::from_sides(lower, upper, h2, mode)
+            }
+            _ => {
+                // Sqrt and 0 < p < 1: concave increasing on x ≥ 0, φ(0) = 0,
+                // bounded as φ(max(x, 0)).
+                let (lower, h2) = if pos {
+                    compose::chord(phi, fl, h, false, mode, true)
+                } else {
+                    (Side::constant(T::ZERO), h)
+                };
+                let x0 = fu.s;
+                let upper = if x0 > T::ZERO {
+                    let v = phi.eval(Interval::point(x0));
+                    let d = match phi {
+                        Unary::Pow(p) => Interval::point(x0).pow(p - T::ONE) * p,
+                        _ => (Interval::point(x0).sqrt() * T::TWO).recip(),
+                    };
+                    let i0 = fu.range(h2).0;
+                    let mut dl = d.lo();
+                    if i0 < T::ZERO {
+                        // Stay ≥ 0 down to I₀ (the function is 0 there).
+                        let cap = div_lo(v.hi(), sub_hi(x0, i0));
+                        if cap < dl {
+                            dl = cap;
+                        }
+                    }
+                    compose::compose_line(
+                        Line {
+                            l0: v.hi(),
+                            dl,
+                            dr: d.hi(),
+                        },
+                        fu,
+                        true,
+                    )
+                } else {
+                    let i1 = fu.range(h2).1;
+                    let top = phi.eval(Interval::point(if i1 > T::ZERO { i1 } else { T::ZERO }));
+                    if top.is_empty() {
+                        compose::unbounded(T::INFINITY, true)
+                    } else {
+                        Side::constant(top.hi())
+                    }
+                };
+                Self::from_sides(lower, upper, h2, mode)
+            }
+        }
+    }
+
+    /// `max(f, g)` (paper §5.2 and App. C): the upper bound is the quadratic
+    /// whose Bézier control points are the maxima of the operands' control
+    /// points (exact at `t₀`); the lower bound is the operand's lower bound
+    /// with the higher start value (ties: higher at the end).
+    pub fn max(self, other: Self) -> Self {
+        if !self.is_valid() || !other.is_valid() {
+            return Self::INVALID;
+        }
+        let h = self.min_h(&other);
+        let mode = self.mode.join(other.mode);
+        let (l1, l2) = (self.lower_side(), other.lower_side());
+        let lower = if l1.s > l2.s || (l1.s == l2.s && l1.at_lo(h) >= l2.at_lo(h)) {
+            l1
+        } else {
+            l2
+        };
+        let upper = bezier_max(self.upper_side(), other.upper_side(), h);
+        Self::from_sides(lower, upper, h, mode)
+    }
+
+    /// `min(f, g) = −max(−f, −g)`.
+    pub fn min(self, other: Self) -> Self {
+        -((-self).max(-other))
+    }
+
+    /// `|x| = max(x, −x)`.
+    pub fn abs(self) -> Self {
+        if !self.is_valid() {
+            return self;
+        }
+        if self.start.lo() >= T::ZERO && self.lower_side().range(self.h).0 >= T::ZERO {
+            return self;
+        }
+        if self.start.hi() <= T::ZERO && self.upper_side().range(self.h).1 <= T::ZERO {
+            return -self;
+        }
+        let m = self.max(-self);
+        // |x| ≥ 0: a zero lower start may use the constant 0 instead.
+        let lower = m.lower_side();
+        if lower.s <= T::ZERO {
+            let zero = Side::constant(T::ZERO);
+            return Self::from_sides(zero, m.upper_side(), m.h, m.mode);
+        }
+        m
+    }
+}
+
+/// Of two valid lower sides, the one to keep: the higher at `τ = h` unless
+/// that would give up more than a rounding margin at `τ = 0`.
+fn better_lower<T: Real>(a: Side<T>, b: Side<T>, h: T) -> Side<T> {
+    let slack = T::from_f64(64.0) * T::EPSILON * (a.s.abs() + b.s.abs()) + T::MIN_SUBNORMAL;
+    let end = if h.is_finite() { h } else { T::ONE };
+    if b.s + slack >= a.s && b.at_lo(end) > a.at_lo(end) {
+        b
+    } else if a.s + slack >= b.s || a.at_lo(end) >= b.at_lo(end) {
+        a
+    } else {
+        b
+    }
+}
+
+/// An upper side above both `p` and `q` on `[0, h]`: control points
+/// `max(Pᵢ, Qᵢ)` (App. C), computed relative to the common start so the
+/// rounding error stays relative to the differences.
+fn bezier_max<T: Real>(p: Side<T>, q: Side<T>, h: T) -> Side<T> {
+    if !(h > T::ZERO) || !h.is_finite() {
+        return max_sides(p, q);
+    }
+    let u0 = max_hi(p.s, q.s);
+    // α = 2(s − U₀)/h + a (middle control point, scaled);
+    // β = (s − U₀)/h + a + b·h (end control point, scaled).
+    let ab = |r: Side<T>| {
+        let d = div_hi(sub_hi(r.s, u0), h);
+        let alpha = add_hi(add_hi(d, d), r.a);
+        let beta = add_hi(add_hi(d, r.a), mul_hi(r.b, h));
+        (alpha, beta)
+    };
+    let (ap, bp) = ab(p);
+    let (aq, bq) = ab(q);
+    let a = max_hi(ap, aq);
+    let beta = max_hi(bp, bq);
+    let b = div_hi(sub_hi(beta, a), h);
+    let bez = Side::new(u0, a, b);
+    // Keep the plain coefficient-wise maximum if it is tighter at the end.
+    let plain = max_sides(p, q);
+    if plain.at_hi(h) < bez.at_hi(h) && plain.s <= u0 {
+        plain
+    } else {
+        bez
+    }
+}
+
+impl<T: Real> Neg for ForwardQuadratic<T> {
+    type Output = Self;
+    /// Swaps and negates the sides (exact).
+    #[inline]
+    fn neg(self) -> Self {
+        if !self.is_valid() {
+            return self;
+        }
+        Self::from_sides(
+            self.upper_side().neg(),
+            self.lower_side().neg(),
+            self.h,
+            self.mode,
+        )
+    }
+}
+
+impl<T: Real> Add for ForwardQuadratic<T> {
+    type Output = Self;
+    /// Coefficient-wise sum (paper eq. 16), rounded outward.
+    #[inline]
+    fn add(self, rhs: Self) -> Self {
+        if !self.is_valid() || !rhs.is_valid() {
+            return Self::INVALID;
+        }
+        Self::from_sides(
+            add_sides_lo(self.lower_side(), rhs.lower_side()),
+            add_sides_hi(self.upper_side(), rhs.upper_side()),
+            self.min_h(&rhs),
+            self.mode.join(rhs.mode),
+        )
+    }
+}
+
+impl<T: Real> Sub for ForwardQuadratic<T> {
+    type Output = Self;
+    /// `self + (−rhs)`.
+    #[inline]
+    fn sub(self, rhs: Self) -> Self {
+        self + (-rhs)
+    }
+}
+
+impl<T: Real> Mul for ForwardQuadratic<T> {
+    type Output = Self;
+    /// Products of the four corner pairs of sides (quartics, paper §6.2),
+    /// each reduced to a quadratic keeping its value and slope at `t₀` with
+    /// the tightest curvature `min/max_{[0,h]} (c₂ + c₃τ + c₄τ²)`; the
+    /// result takes the extreme coefficients.
+    fn mul(self, rhs: Self) -> Self {
+        if !self.is_valid() || !rhs.is_valid() {
+            return Self::INVALID;
+        }
+        let h = self.min_h(&rhs);
+        let mode = self.mode.join(rhs.mode);
+        let fs = [self.lower_side(), self.upper_side()];
+        let gs = [rhs.lower_side(), rhs.upper_side()];
+        let mut lower: Option<Side<T>> = None;
+        let mut upper: Option<Side<T>> = None;
+        for f in fs {
+            for g in gs {
+                let c = poly::quartic(f, g);
+                let l = poly::reduce_lo(c, h);
+                let u = poly::reduce_hi(c, h);
+                lower = Some(match lower {
+                    None => l,
+                    Some(x) => min_sides(x, l),
+                });
+                upper = Some(match upper {
+                    None => u,
+                    Some(x) => max_sides(x, u),
+                });
+            }
+        }
+        match (lower, upper) {
+            (Some(l), Some(u)) => Self::from_sides(l, u, h, mode),
+            _ => Self::INVALID,
+        }
+    }
+}
+
+impl<T: Real> Div for ForwardQuadratic<T> {
+    type Output = Self;
+    /// `self · recip(rhs)`.
+    #[inline]
+    #[allow(clippy::suspicious_arithmetic_impl)] // x / y = x · (1/y) by design
+    fn div(self, rhs: Self) -> Self {
+        self * rhs.recip()
+    }
+}
+
+impl<T: Real> Add<T> for ForwardQuadratic<T> {
+    type Output = Self;
+    /// Shifts the start values (rounded outward); a non-finite scalar gives
+    /// [`INVALID`](Self::INVALID).
+    #[inline]
+    fn add(self, c: T) -> Self {
+        if !self.is_valid() || !c.is_finite() {
+            return Self::INVALID;
+        }
+        let (mut l, mut u) = (self.lower_side(), self.upper_side());
+        l.s = add_lo(l.s, c);
+        u.s = add_hi(u.s, c);
+        Self::from_sides(l, u, self.h, self.mode)
+    }
+}
+
+impl<T: Real> Sub<T> for ForwardQuadratic<T> {
+    type Output = Self;
+    /// `self + (−c)`.
+    #[inline]
+    fn sub(self, c: T) -> Self {
+        self + (-c)
+    }
+}
+
+impl<T: Real> Mul<T> for ForwardQuadratic<T> {
+    type Output = Self;
+    /// Scales every coefficient (rounded outward), swapping the sides for a
+    /// negative scalar; a non-finite scalar gives [`INVALID`](Self::INVALID).
+    #[inline]
+    fn mul(self, c: T) -> Self {
+        if !self.is_valid() || !c.is_finite() {
+            return Self::INVALID;
+        }
+        let (l, u) = (self.lower_side(), self.upper_side());
+        let (l, u) = if c >= T::ZERO { (l, u) } else { (u, l) };
+        let lo = Side::new(mul_lo(l.s, c), mul_lo(l.a, c), mul_lo(l.b, c));
+        let hi = Side::new(mul_hi(u.s, c), mul_hi(u.a, c), mul_hi(u.b, c));
+        Self::from_sides(lo, hi, self.h, self.mode)
+    }
+}
+
+impl<T: Real> Div<T> for ForwardQuadratic<T> {
+    type Output = Self;
+    /// Divides every coefficient (rounded outward); a zero or non-finite
+    /// divisor gives [`INVALID`](Self::INVALID).
+    #[inline]
+    fn div(self, c: T) -> Self {
+        if !self.is_valid() || !c.is_finite() || c == T::ZERO {
+            return Self::INVALID;
+        }
+        let (l, u) = (self.lower_side(), self.upper_side());
+        let (l, u) = if c > T::ZERO { (l, u) } else { (u, l) };
+        let lo = Side::new(div_lo(l.s, c), div_lo(l.a, c), div_lo(l.b, c));
+        let hi = Side::new(div_hi(u.s, c), div_hi(u.a, c), div_hi(u.b, c));
+        Self::from_sides(lo, hi, self.h, self.mode)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn contains_on(b: ForwardQuadratic<f64>, t0: f64, f: impl Fn(f64) -> f64) {
+        let h = b.validity();
+        assert!(h > 0.0);
+        for i in 0..=400 {
+            let tau = h * i as f64 / 400.0;
+            let y = f(t0 + tau);
+            let iv = b.bounds_at(tau);
+            let tol = 1e-9 * (1.0 + y.abs());
+            assert!(
+                iv.lo() <= y + tol && y - tol <= iv.hi(),
+                "{y} not in {iv:?} at τ={tau}"
+            );
+        }
+    }
+
+    #[test]
+    fn blob_like_expression() {
+        let t = ForwardQuadratic::<f64>::ray_param(-2.0, 2.0);
+        let d2 = (t - 0.3).sqr() + 0.2;
+        let f = (-d2).exp() * 2.0 - 0.5;
+        contains_on(f, -2.0, |t| {
+            2.0 * (-((t - 0.3f64).powi(2) + 0.2)).exp() - 0.5
+        });
+        let g = d2.recip() + d2.sqrt() - d2.ln();
+        let gf = |t: f64| {
+            let d = (t - 0.3f64).powi(2) + 0.2;
+            1.0 / d + d.sqrt() - d.ln()
+        };
+        contains_on(g, -2.0, gf);
+        let m = f.max(t * 0.1).min(-t + 1.0).abs();
+        contains_on(m, -2.0, |t| {
+            let f = 2.0 * (-((t - 0.3f64).powi(2) + 0.2)).exp() - 0.5;
+            f.max(0.1 * t).min(1.0 - t).abs()
+        });
+    }
+
+    #[test]
+    fn recip_shortens_before_pole() {
+        let t = ForwardQuadratic::<f64>::ray_param(0.0, 4.0);
+        let r = (-t + 1.0).recip(); // pole at t = 1
+        assert!(r.validity() > 0.0 && r.validity() <= 0.5 + 1e-12);
+        contains_on(r, 0.0, |t| 1.0 / (1.0 - t));
+    }
+}
