@@ -156,7 +156,7 @@ pub(crate) fn unbounded<T: Real>(start: T, upper: bool) -> Side<T> {
 pub(crate) fn tangent<T: Real>(phi: Unary<T>, q: Side<T>, upper: bool) -> Side<T> {
     let v = phi.at(q.s);
     let d = phi.deriv(q.s);
-    if v.is_empty() || d.is_empty() || !v.is_bounded() || !d.is_bounded() {
+    if v.is_empty() || d.is_empty() {
         let s = if upper { T::INFINITY } else { T::NEG_INFINITY };
         return unbounded(s, upper);
     }
@@ -194,7 +194,7 @@ pub(crate) fn chord<T: Real>(
 ) -> (Side<T>, T) {
     let x0 = q.s;
     let v0 = phi.at(x0);
-    if v0.is_empty() || !v0.is_bounded() || !x0.is_finite() {
+    if v0.is_empty() || !x0.is_finite() {
         let s = if upper { T::INFINITY } else { T::NEG_INFINITY };
         return (unbounded(s, upper), h);
     }
@@ -204,7 +204,7 @@ pub(crate) fn chord<T: Real>(
         // u(τ) = τ(a + bτ) changes sign at τs = −a/b: stop there (rounded
         // down, so u keeps the sign of a on [0, τs]).
         let ts = div_down(-q.a, q.b);
-        if ts >= T::ZERO && ts < h {
+        if ts > T::ZERO && ts < h {
             h = ts;
             if q.a > T::ZERO {
                 fall = false;

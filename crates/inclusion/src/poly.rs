@@ -20,7 +20,13 @@ pub(crate) fn mul_lo<T: Real>(a: T, b: T) -> T {
     if a == T::ZERO || b == T::ZERO {
         return T::ZERO;
     }
-    lo_nan(mul_down(a, b))
+    let r = lo_nan(mul_down(a, b));
+    // An underflow must not flip the known sign of the exact product.
+    if r < T::ZERO && (a > T::ZERO) == (b > T::ZERO) {
+        T::ZERO
+    } else {
+        r
+    }
 }
 
 /// `a · b` rounded up; `0 · x = 0`; NaN → `+∞`.
@@ -29,7 +35,12 @@ pub(crate) fn mul_hi<T: Real>(a: T, b: T) -> T {
     if a == T::ZERO || b == T::ZERO {
         return T::ZERO;
     }
-    hi_nan(mul_up(a, b))
+    let r = hi_nan(mul_up(a, b));
+    if r > T::ZERO && (a > T::ZERO) != (b > T::ZERO) {
+        T::ZERO
+    } else {
+        r
+    }
 }
 
 /// `a + b` rounded down; NaN → `−∞`.

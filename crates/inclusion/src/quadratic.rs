@@ -303,7 +303,12 @@ impl<T: Real> ForwardQuadratic<T> {
         let half = mul_hi(q.s, T::HALF);
         let shifted = Side::new(sub_lo(q.s, half), q.a, q.b);
         if !(shifted.s > T::ZERO) {
-            return T::ZERO;
+            // q.s is the least subnormal: half of it is not representable.
+            // Stop half way to the side's root instead (it is still > 0).
+            return match poly::safe_root_pos(q, h) {
+                Some(r) => r * T::HALF,
+                None => h,
+            };
         }
         poly::safe_root_pos(shifted, h).unwrap_or(h)
     }
@@ -412,7 +417,9 @@ impl<T: Real> ForwardQuadratic<T> {
         self.monotone(Unary::Recip)
     }
 
-    /// `eˣ`: convex increasing.
+    /// `eˣ`: convex increasing. The interval is shortened where the upper
+    /// argument would exceed its start value by 16 (a growth by
+    /// `e¹⁶ ≈ 9·10⁶`), which keeps the chord finite and meaningful.
     pub fn exp(self) -> Self {
         self.monotone(Unary::Exp)
     }
@@ -461,6 +468,15 @@ impl<T: Real> ForwardQuadratic<T> {
         let neg = self.start.hi() < T::ZERO;
         match phi {
             Unary::Exp => {
+                // Stop where the upper argument has grown by EXP_GROWTH: the
+                // chord stays finite (no overflow) and meaningful.
+                let cap = add_lo(fu.s, T::from_f64(EXP_GROWTH));
+                if cap > fu.s && fu.range(h).1 > cap {
+                    let room = Side::new(sub_lo(cap, fu.s), -fu.a, -fu.b);
+                    if let Some(r) = poly::safe_root_pos(room, h) {
+                        h = r;
+                    }
+                }
                 let lower = compose::tangent(phi, fl, false);
                 let (upper, h2) = compose::chord(phi, fu, h, true, mode, false);
                 Self::from_sides(lower, upper, h2, mode)
@@ -601,6 +617,9 @@ impl<T: Real> ForwardQuadratic<T> {
         m
     }
 }
+
+/// How far the argument of `exp` may grow over a bound's interval.
+const EXP_GROWTH: f64 = 16.0;
 
 /// Of two valid lower sides, the one to keep: the higher at `τ = h` unless
 /// that would give up more than a rounding margin at `τ = 0`.
