@@ -22,14 +22,14 @@ cargo clippy --workspace --all-targets -- -D warnings
 step "cargo test --workspace"
 cargo test --workspace
 
-step "cargo test boundtrace-ia-core with the libm back end"
-cargo test -p boundtrace-ia-core --no-default-features --features libm
+step "cargo test boundtrace-ia-core and boundtrace-inclusion with the libm back end"
+cargo test -p boundtrace-ia-core -p boundtrace-inclusion --no-default-features --features libm
 
 step "cargo doc (deny warnings)"
 RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps
 
-step "no_std build of boundtrace-ia-core for thumbv7em-none-eabihf"
-cargo build -p boundtrace-ia-core --target thumbv7em-none-eabihf \
+step "no_std build of boundtrace-ia-core and boundtrace-inclusion for thumbv7em-none-eabihf"
+cargo build -p boundtrace-ia-core -p boundtrace-inclusion --target thumbv7em-none-eabihf \
     --no-default-features --features libm
 
 step "ITF1788 conformance report"

@@ -37,6 +37,10 @@
 //!    the end of their common validity interval in ≥ 90% of the cases (the
 //!    measured fraction is printed).
 //!
+//! The same trees also check the other [`FieldNum`] types: `Interval` and
+//! `Affine` (one noise symbol for `t`) must enclose the reference on the
+//! whole grid, and a `Jet`'s value must equal the plain float evaluation.
+//!
 //! 10 000 cases per float type (`PROPTEST_CASES` overrides).
 
 mod common;
@@ -44,8 +48,8 @@ mod common;
 use std::cell::RefCell;
 
 use astro_float::{BigFloat, RoundingMode as Rm};
-use boundtrace::ia_core::Interval;
-use boundtrace::inclusion::{Composition, FieldNum, ForwardLinear, ForwardQuadratic};
+use boundtrace::ia_core::{Affine, Interval};
+use boundtrace::inclusion::{Composition, FieldNum, ForwardLinear, ForwardQuadratic, Jet};
 use proptest::prelude::*;
 use proptest::test_runner::{TestCaseError, TestRunner};
 
@@ -500,7 +504,7 @@ fn fail(msg: String) -> Result<(), TestCaseError> {
 }
 
 /// One case: a tree, an interval and a composition variant.
-fn check_case<T: Flt>(seed: u64) -> Result<(), TestCaseError> {
+fn check_case<T: Flt + FieldNum<T>>(seed: u64) -> Result<(), TestCaseError> {
     let mut rng = Rng(seed | 1);
     let depth = 6 + rng.below(3) as u32;
     let tree = Tree::generate(&mut rng, depth);
@@ -550,6 +554,43 @@ fn check_case<T: Flt>(seed: u64) -> Result<(), TestCaseError> {
             (tau, v)
         })
         .collect();
+
+    // The other number types through the same trait: Interval and Affine
+    // enclose the reference on the whole grid; a Jet's value is the plain
+    // float evaluation.
+    let iv: Interval<T> = tree.eval(Interval::new(t0, t1));
+    let af: Affine<T, 1> = tree.eval(FieldNum::ray_param(t0, t1));
+    let afi = af.to_interval();
+    for (tau, v) in &grid {
+        let Some((y, mag)) = v else { continue };
+        for (name, e) in [("interval", iv), ("affine", afi)] {
+            if !e.is_empty() && !within(e.lo().as_f64(), e.hi().as_f64(), y, mag) {
+                return fail(format!(
+                    "{name}: f(t0+τ) = {} not in {e:?} at τ = {}; {}",
+                    r::show(y),
+                    r::show(tau),
+                    ctx()
+                ));
+            }
+            if e.is_empty() {
+                return fail(format!(
+                    "{name}: EMPTY although f is defined at τ = {}; {}",
+                    r::show(tau),
+                    ctx()
+                ));
+            }
+        }
+    }
+    let plain: T = tree.eval(t0);
+    let jet: Jet<T> = tree.eval(Jet::variable(t0));
+    if !(plain.is_nan() && jet.v.is_nan()) && plain != jet.v {
+        return fail(format!(
+            "jet value {:e} != plain {:e}; {}",
+            jet.v,
+            plain,
+            ctx()
+        ));
+    }
 
     for (i, b) in bounds.iter().enumerate() {
         if !b.valid {
@@ -762,7 +803,7 @@ fn trace_seed() {
 /// hand, so proptest's regression files do not apply).
 const REGRESSIONS: &[u64] = &[];
 
-fn run<T: Flt>() {
+fn run<T: Flt + FieldNum<T>>() {
     for &seed in REGRESSIONS {
         if let Err(e) = check_case::<T>(seed) {
             panic!("regression seed {seed:#x}: {e}");

@@ -112,19 +112,32 @@ impl<T: Real> Jet<T> {
         self.chain(self.v.ln(), g1, -g1 * g1)
     }
 
-    /// `|x|` (derivative sign of `x`; at `0` that of `+x`).
+    /// `|x|` (the derivative's sign follows the sign bit of `x`, so
+    /// `|−0| = +0` as in `f64::abs`).
     pub fn abs(self) -> Self {
-        if self.v < T::ZERO { -self } else { self }
+        if self.v.is_sign_negative() {
+            -self
+        } else {
+            self
+        }
     }
 
-    /// `min(f, g)` by value.
+    /// `min(f, g)` by value (a NaN operand is ignored, as in `f64::min`).
     pub fn min(self, other: Self) -> Self {
-        if other.v < self.v { other } else { self }
+        if other.v < self.v || self.v.is_nan() {
+            other
+        } else {
+            self
+        }
     }
 
-    /// `max(f, g)` by value.
+    /// `max(f, g)` by value (a NaN operand is ignored, as in `f64::max`).
     pub fn max(self, other: Self) -> Self {
-        if other.v > self.v { other } else { self }
+        if other.v > self.v || self.v.is_nan() {
+            other
+        } else {
+            self
+        }
     }
 }
 
@@ -170,11 +183,14 @@ impl<T: Real> Mul for Jet<T> {
 
 impl<T: Real> Div for Jet<T> {
     type Output = Self;
-    /// `self · recip(r)`.
+    /// Quotient rule: `q = f/g`, `q' = (f' − q g')/g`,
+    /// `q'' = (f'' − 2q'g' − q g'')/g` (the value is the plain quotient).
     #[inline]
-    #[allow(clippy::suspicious_arithmetic_impl)] // f / g = f · (1/g)
     fn div(self, r: Self) -> Self {
-        self * r.recip()
+        let q = self.v / r.v;
+        let q1 = (self.d1 - q * r.d1) / r.v;
+        let q2 = (self.d2 - (q1 * r.d1) * T::TWO - q * r.d2) / r.v;
+        Self::new(q, q1, q2)
     }
 }
 
