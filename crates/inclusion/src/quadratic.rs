@@ -321,10 +321,11 @@ impl<T: Real> ForwardQuadratic<T> {
         }
         let (fl, fu) = (self.lower_side(), self.upper_side());
         let h = self.h;
+        let (qll, quu) = (poly::quartic(fl, fl), poly::quartic(fu, fu));
         let lower = if fl.range(h).0 >= T::ZERO {
-            poly::reduce_lo(poly::quartic(fl, fl), h)
+            poly::reduce_lo(qll, h)
         } else if fu.range(h).1 <= T::ZERO {
-            poly::reduce_lo(poly::quartic(fu, fu), h)
+            poly::reduce_lo(quu, h)
         } else if fl.s > T::ZERO {
             let d = fl.s + fl.s;
             compose::compose_line(
@@ -354,17 +355,11 @@ impl<T: Real> ForwardQuadratic<T> {
         // below (x² ≥ min(f₋², f₊², f₋f₊) for f₋ ≤ x ≤ f₊), which is nearly
         // exact for a thin band (e.g. the square of a coordinate).
         let corners = min_sides(
-            min_sides(
-                poly::reduce_lo(poly::quartic(fl, fl), h),
-                poly::reduce_lo(poly::quartic(fu, fu), h),
-            ),
+            min_sides(poly::reduce_lo(qll, h), poly::reduce_lo(quu, h)),
             poly::reduce_lo(poly::quartic(fl, fu), h),
         );
         let lower = better_lower(lower, corners, h);
-        let upper = max_sides(
-            poly::reduce_hi(poly::quartic(fl, fl), h),
-            poly::reduce_hi(poly::quartic(fu, fu), h),
-        );
+        let upper = max_sides(poly::reduce_hi(qll, h), poly::reduce_hi(quu, h));
         Self::from_sides(lower, upper, h, self.mode)
     }
 
