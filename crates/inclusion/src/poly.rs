@@ -338,6 +338,104 @@ pub(crate) fn reduce_hi<T: Real>(c: [(T, T); 5], h: T) -> Side<T> {
     Side::new(c[0].1, c[1].1, r.range(h).1)
 }
 
+/// The paper's quadratic multiplication (forward-inclusion §6.2, Fig. 8):
+/// a lower quadratic for the quartic `P` from a line below its derivative
+/// `P′ = c₁ + 2c₂τ + 3c₃τ² + 4c₄τ³`, integrated from `τ = 0`.
+///
+/// `P′` is split at its inflection `τᵢ = −c₃/(4c₄)` into convex and concave
+/// parts; a convex part is bounded below by its tangent at the midpoint (a
+/// concave-kinked pair of half-lines absorbs the derivative's rounding), a
+/// concave part by its chord. Each part's line is extended to `[0, h]`, the
+/// lowest values at `0` and `h` define one line `L` below `P′` on all of
+/// `[0, h]`, and `P(τ) ≥ c₀ + L(0)τ + (L(h) − L(0))τ²/(2h)`. Everything is
+/// evaluated in interval arithmetic, so the result is sound. Unlike
+/// [`reduce_lo`] its slope at `τ = 0` may be below `c₁`; the callers keep
+/// whichever of the two is tighter at `h`.
+pub(crate) fn reduce_lo_fig8<T: Real>(c: [(T, T); 5], h: T) -> Option<Side<T>> {
+    use boundtrace_ia_core::Interval;
+    if !(h > T::ZERO) || !h.is_finite() {
+        return None;
+    }
+    let iv = |k: usize| Interval::new(c[k].0, c[k].1);
+    let (c1, c2, c3, c4) = (iv(1), iv(2), iv(3), iv(4));
+    if c1.is_empty() || c2.is_empty() || c3.is_empty() || c4.is_empty() {
+        return None;
+    }
+    let (d1, d2, d3) = (c2 * T::TWO, c3 * T::from_f64(3.0), c4 * T::from_f64(4.0));
+    // P′ and P″ as enclosures at a point or over an interval of τ ≥ 0.
+    let dp = |t: Interval<T>| c1 + t * (d1 + t * (d2 + t * d3));
+    let ddp = |t: Interval<T>| d1 + t * (d2 * T::TWO + t * (d3 * T::from_f64(3.0)));
+    // P‴ decides the convexity of P′.
+    let dddp = |t: Interval<T>| d2 * T::TWO + t * (d3 * T::from_f64(6.0));
+    // Split points: 0, the inflection (if inside), h.
+    let mut cuts = [T::ZERO, h, h];
+    let mut ncut = 2;
+    let mid4 = c4.mid();
+    if mid4 != T::ZERO {
+        let ti = -c3.mid() / (mid4 * T::from_f64(4.0));
+        if ti > T::ZERO && ti < h {
+            cuts = [T::ZERO, ti, h];
+            ncut = 3;
+        }
+    }
+    // Lowest values at 0 and at h of the extended lines.
+    let mut at0 = T::INFINITY;
+    let mut ath = T::INFINITY;
+    let mut k = 0;
+    while k + 1 < ncut {
+        let (u, v) = (cuts[k], cuts[k + 1]);
+        k += 1;
+        if !(v > u) {
+            return None;
+        }
+        let (ui, vi) = (Interval::point(u), Interval::point(v));
+        let mi = Interval::point(u + (v - u) * T::HALF);
+        // Convexity of P′ on [u, v] from the sign of P‴ over the part.
+        let curv = dddp(Interval::new(u, v));
+        let (yu, yv) = if curv.lo() >= T::ZERO {
+            // Tangent at m with slope S: left of m use S.hi, right S.lo.
+            let y = Interval::point(dp(mi).lo());
+            let sl = ddp(mi);
+            let yu = y + Interval::point(sl.hi()) * (ui - mi);
+            let yv = y + Interval::point(sl.lo()) * (vi - mi);
+            (yu.lo(), yv.lo())
+        } else if curv.hi() <= T::ZERO {
+            (dp(ui).lo(), dp(vi).lo())
+        } else {
+            // Neither provably convex nor concave (rounding at the
+            // inflection): a constant below the range of P′ on the part.
+            let r = dp(Interval::new(u, v)).lo();
+            (r, r)
+        };
+        if !(yu.is_finite() && yv.is_finite()) {
+            return None;
+        }
+        // The line through (u, yu), (v, yv), extended to 0 and h.
+        let slope = (Interval::point(yv) - Interval::point(yu)) / (vi - ui);
+        let l0 = (Interval::point(yu) + slope * (Interval::point(T::ZERO) - ui)).lo();
+        let lh = (Interval::point(yu) + slope * (Interval::point(h) - ui)).lo();
+        at0 = min_lo(at0, l0);
+        ath = min_lo(ath, lh);
+    }
+    if !(at0.is_finite() && ath.is_finite()) {
+        return None;
+    }
+    let b = div_lo(sub_lo(ath, at0), h + h);
+    Some(Side::new(c[0].0, at0, b))
+}
+
+/// Upper counterpart of [`reduce_lo_fig8`] (via `−P`).
+pub(crate) fn reduce_hi_fig8<T: Real>(c: [(T, T); 5], h: T) -> Option<Side<T>> {
+    let neg = [
+        (-c[0].1, -c[0].0),
+        (-c[1].1, -c[1].0),
+        (-c[2].1, -c[2].0),
+        (-c[3].1, -c[3].0),
+        (-c[4].1, -c[4].0),
+    ];
+    reduce_lo_fig8(neg, h).map(Side::neg)
+}
+
 /// Proves `s + aτ + bτ² ≥ 0` on `[0, r]` (given `s > 0`, `r ≥ 0`).
 fn nonneg_on<T: Real>(q: Side<T>, r: T) -> bool {
     if r.is_nan() || q.at_lo(r) < T::ZERO {
@@ -459,6 +557,44 @@ mod tests {
         assert!(r <= exact && r > exact - 1e-12);
     }
 
+    /// Both reductions of random products bound the product (f64 reference
+    /// with a relative slack far above its rounding).
+    #[test]
+    fn reductions_contain_random_products() {
+        let mut s = 12345u64;
+        let mut r = || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 11) as f64 / (1u64 << 53) as f64 * 4.0 - 2.0
+        };
+        for _ in 0..20_000 {
+            let p = Side::new(r(), r() * 3.0, r() * 3.0);
+            let q = Side::new(r(), r() * 3.0, r() * 3.0);
+            let h = (r() + 2.0) / 2.0;
+            let c = quartic(p, q);
+            let sides = [
+                (Some(reduce_lo(c, h)), false),
+                (Some(reduce_hi(c, h)), true),
+                (reduce_lo_fig8(c, h), false),
+                (reduce_hi_fig8(c, h), true),
+            ];
+            for i in 0..=50 {
+                let t = h * i as f64 / 50.0;
+                let e = (p.s + t * (p.a + p.b * t)) * (q.s + t * (q.a + q.b * t));
+                let tol = 1e-12 * (1.0 + e.abs());
+                for (side, upper) in sides {
+                    let Some(side) = side else { continue };
+                    if upper {
+                        assert!(side.at_hi(t) >= e - tol, "{p:?} {q:?} h={h} t={t}");
+                    } else {
+                        assert!(side.at_lo(t) <= e + tol, "{p:?} {q:?} h={h} t={t}");
+                    }
+                }
+            }
+        }
+    }
+
     #[test]
     fn quartic_reduction_bounds_product() {
         let p = Side::new(1.0f64, -1.0, 0.5);
@@ -467,10 +603,14 @@ mod tests {
         let c = quartic(p, q);
         let lo = reduce_lo(c, h);
         let hi = reduce_hi(c, h);
+        let lo8 = reduce_lo_fig8(c, h).unwrap();
+        let hi8 = reduce_hi_fig8(c, h).unwrap();
+        assert_eq!((lo8.s, hi8.s), (2.0, 2.0));
         for i in 0..=100 {
             let t = h * i as f64 / 100.0;
             let exact = (1.0 - t + 0.5 * t * t) * (2.0 + 0.5 * t - 0.25 * t * t);
             assert!(lo.at_lo(t) <= exact + 1e-12 && hi.at_hi(t) >= exact - 1e-12);
+            assert!(lo8.at_lo(t) <= exact + 1e-12 && hi8.at_hi(t) >= exact - 1e-12);
         }
     }
 }

@@ -706,10 +706,13 @@ impl<T: Real> Sub for ForwardQuadratic<T> {
 
 impl<T: Real> Mul for ForwardQuadratic<T> {
     type Output = Self;
-    /// Products of the four corner pairs of sides (quartics, paper §6.2),
-    /// each reduced to a quadratic keeping its value and slope at `t₀` with
-    /// the tightest curvature `min/max_{[0,h]} (c₂ + c₃τ + c₄τ²)`; the
-    /// result takes the extreme coefficients.
+    /// Products of the four corner pairs of sides (quartics, paper §6.2).
+    /// Each is reduced to a quadratic in two ways and the tighter at `h` is
+    /// kept: the paper's Fig. 8 rule (a line below the cubic derivative,
+    /// split at its inflection into convex/concave parts, integrated), and
+    /// the quadratic keeping value and slope at `t₀` with the tightest
+    /// curvature `min/max_{[0,h]} (c₂ + c₃τ + c₄τ²)`. The result takes the
+    /// extreme coefficients of the four.
     fn mul(self, rhs: Self) -> Self {
         if !self.is_valid() || !rhs.is_valid() {
             return Self::INVALID;
@@ -723,8 +726,14 @@ impl<T: Real> Mul for ForwardQuadratic<T> {
         for f in fs {
             for g in gs {
                 let c = poly::quartic(f, g);
-                let l = poly::reduce_lo(c, h);
-                let u = poly::reduce_hi(c, h);
+                let mut l = poly::reduce_lo(c, h);
+                let mut u = poly::reduce_hi(c, h);
+                if let Some(l8) = poly::reduce_lo_fig8(c, h) {
+                    l = better_lower(l, l8, h);
+                }
+                if let Some(u8) = poly::reduce_hi_fig8(c, h) {
+                    u = better_lower(u.neg(), u8.neg(), h).neg();
+                }
                 lower = Some(match lower {
                     None => l,
                     Some(x) => min_sides(x, l),
