@@ -36,4 +36,8 @@ step "ITF1788 conformance report"
 report=$(find "${CARGO_TARGET_DIR:-target}" -name itf1788-report.txt -path '*tmp*' 2>/dev/null | head -n 1)
 if [ -n "$report" ]; then cat "$report"; fi
 
+step "forward-bound property test report"
+find "${CARGO_TARGET_DIR:-target}" -name 'forward-bounds-report-*.txt' -path '*tmp*' \
+    -exec cat {} \; 2>/dev/null || true
+
 printf '\nAll checks passed.\n'

@@ -839,6 +839,10 @@ fn run<T: Flt + FieldNum<T>>() {
         )
     });
     println!("{}", report.0);
+    // Also to a file that scripts/test.sh prints (test output is captured).
+    let path = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("forward-bounds-report-{}.txt", T::NAME));
+    std::fs::write(&path, format!("{}\n", report.0)).expect("write the report");
     if let Err(e) = result {
         panic!("{e}");
     }

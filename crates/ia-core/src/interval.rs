@@ -422,8 +422,14 @@ impl<T: Real> Interval<T> {
         if self.is_empty() {
             return self;
         }
-        let f = |v: T, up: bool| {
-            let r = v.m_exp();
+        // A point interval needs one libm call, not two.
+        let rl = self.lo.m_exp();
+        let rh = if self.hi == self.lo {
+            rl
+        } else {
+            self.hi.m_exp()
+        };
+        let f = |v: T, r: T, up: bool| {
             if v == T::ZERO || v.is_infinite() {
                 r // exact: e^0 = 1, e^−∞ = 0, e^+∞ = +∞
             } else if up {
@@ -432,7 +438,7 @@ impl<T: Real> Interval<T> {
                 r.next_down_n(TRANSCENDENTAL_ULPS).max(T::ZERO)
             }
         };
-        Self::raw(f(self.lo, false), f(self.hi, true))
+        Self::raw(f(self.lo, rl, false), f(self.hi, rh, true))
     }
 
     /// Natural logarithm on the domain `x > 0`: `ln([0, b]) = [−∞, ln b]`,
@@ -444,8 +450,9 @@ impl<T: Real> Interval<T> {
         if x.is_empty() || x.hi == T::ZERO {
             return Self::EMPTY;
         }
-        let f = |v: T, up: bool| {
-            let r = v.m_ln();
+        let rl = x.lo.m_ln();
+        let rh = if x.hi == x.lo { rl } else { x.hi.m_ln() };
+        let f = |v: T, r: T, up: bool| {
             if v == T::ONE || v == T::ZERO || v.is_infinite() {
                 r // exact: ln 1 = 0, ln 0 = −∞, ln ∞ = ∞
             } else if up {
@@ -454,7 +461,7 @@ impl<T: Real> Interval<T> {
                 r.next_down_n(TRANSCENDENTAL_ULPS)
             }
         };
-        Self::raw(f(x.lo, false), f(x.hi, true))
+        Self::raw(f(x.lo, rl, false), f(x.hi, rh, true))
     }
 
     /// Sine. Bounds widened by two float steps (libm error < 1 ulp, full

@@ -155,7 +155,13 @@ pub(crate) fn unbounded<T: Real>(start: T, upper: bool) -> Side<T> {
 /// `q(τ)` lies in the region of convexity.
 pub(crate) fn tangent<T: Real>(phi: Unary<T>, q: Side<T>, upper: bool) -> Side<T> {
     let v = phi.at(q.s);
-    let d = phi.deriv(q.s);
+    // Reuse the value where the derivative is a function of it.
+    let d = match phi {
+        Unary::Exp => v,
+        Unary::Sqrt if q.s > T::ZERO => (v * T::TWO).recip(),
+        Unary::Recip => -v.sqr(),
+        _ => phi.deriv(q.s),
+    };
     if v.is_empty() || d.is_empty() {
         let s = if upper { T::INFINITY } else { T::NEG_INFINITY };
         return unbounded(s, upper);

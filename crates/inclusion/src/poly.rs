@@ -424,16 +424,60 @@ pub(crate) fn reduce_lo_fig8<T: Real>(c: [(T, T); 5], h: T) -> Option<Side<T>> {
     Some(Side::new(c[0].0, at0, b))
 }
 
-/// Upper counterpart of [`reduce_lo_fig8`] (via `−P`).
-pub(crate) fn reduce_hi_fig8<T: Real>(c: [(T, T); 5], h: T) -> Option<Side<T>> {
-    let neg = [
+/// The coefficient bounds of `−P`.
+#[inline]
+pub(crate) fn neg_quartic<T: Real>(c: [(T, T); 5]) -> [(T, T); 5] {
+    [
         (-c[0].1, -c[0].0),
         (-c[1].1, -c[1].0),
         (-c[2].1, -c[2].0),
         (-c[3].1, -c[3].0),
         (-c[4].1, -c[4].0),
-    ];
-    reduce_lo_fig8(neg, h).map(Side::neg)
+    ]
+}
+
+/// Upper counterpart of [`reduce_lo_fig8`] (via `−P`).
+#[cfg(test)]
+pub(crate) fn reduce_hi_fig8<T: Real>(c: [(T, T); 5], h: T) -> Option<Side<T>> {
+    reduce_lo_fig8(neg_quartic(c), h).map(Side::neg)
+}
+
+/// A float estimate (no rounding control) of the value at `τ = h` of the
+/// [`reduce_lo_fig8`] side, used to skip that (costlier, rigorous)
+/// construction when it cannot beat [`reduce_lo`]. `None` when degenerate.
+pub(crate) fn fig8_lo_end_estimate<T: Real>(c: [(T, T); 5], h: T) -> Option<T> {
+    let (c0, c1, c2, c3, c4) = (c[0].0, c[1].0, c[2].0, c[3].0, c[4].0);
+    let dp =
+        |t: T| c1 + t * (T::TWO * c2 + t * (T::from_f64(3.0) * c3 + t * T::from_f64(4.0) * c4));
+    let ddp = |t: T| T::TWO * c2 + t * (T::from_f64(6.0) * c3 + t * T::from_f64(12.0) * c4);
+    let mut cuts = [T::ZERO, h, h];
+    let mut ncut = 2;
+    if c4 != T::ZERO {
+        let ti = -c3 / (T::from_f64(4.0) * c4);
+        if ti > T::ZERO && ti < h {
+            cuts = [T::ZERO, ti, h];
+            ncut = 3;
+        }
+    }
+    let (mut at0, mut ath) = (T::INFINITY, T::INFINITY);
+    let mut k = 0;
+    while k + 1 < ncut {
+        let (u, v) = (cuts[k], cuts[k + 1]);
+        k += 1;
+        let m = u + (v - u) * T::HALF;
+        let convex = T::from_f64(6.0) * c3 + T::from_f64(24.0) * c4 * m >= T::ZERO;
+        let (yu, yv) = if convex {
+            let (y, s) = (dp(m), ddp(m));
+            (y + s * (u - m), y + s * (v - m))
+        } else {
+            (dp(u), dp(v))
+        };
+        let slope = (yv - yu) / (v - u);
+        at0 = at0.min(yu - slope * u);
+        ath = ath.min(yu + slope * (h - u));
+    }
+    let end = c0 + h * (at0 + ath) * T::HALF;
+    if end.is_finite() { Some(end) } else { None }
 }
 
 /// Proves `s + aτ + bτ² ≥ 0` on `[0, r]` (given `s > 0`, `r ≥ 0`).

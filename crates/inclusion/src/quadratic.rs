@@ -728,11 +728,24 @@ impl<T: Real> Mul for ForwardQuadratic<T> {
                 let c = poly::quartic(f, g);
                 let mut l = poly::reduce_lo(c, h);
                 let mut u = poly::reduce_hi(c, h);
-                if let Some(l8) = poly::reduce_lo_fig8(c, h) {
-                    l = better_lower(l, l8, h);
-                }
-                if let Some(u8) = poly::reduce_hi_fig8(c, h) {
-                    u = better_lower(u.neg(), u8.neg(), h).neg();
+                // The Fig. 8 rule only matters with cubic/quartic terms, and
+                // is only computed (rigorously) when a float estimate says it
+                // is tighter at h.
+                let cubic = c[3] != (T::ZERO, T::ZERO) || c[4] != (T::ZERO, T::ZERO);
+                if cubic && h.is_finite() {
+                    let slack = T::from_f64(1e-6) * (l.s.abs() + T::ONE);
+                    if poly::fig8_lo_end_estimate(c, h).is_some_and(|e| e > l.at_lo(h) + slack) {
+                        if let Some(l8) = poly::reduce_lo_fig8(c, h) {
+                            l = better_lower(l, l8, h);
+                        }
+                    }
+                    let neg = poly::neg_quartic(c);
+                    let slack = T::from_f64(1e-6) * (u.s.abs() + T::ONE);
+                    if poly::fig8_lo_end_estimate(neg, h).is_some_and(|e| e > -u.at_hi(h) + slack) {
+                        if let Some(u8) = poly::reduce_lo_fig8(neg, h) {
+                            u = better_lower(u.neg(), u8, h).neg();
+                        }
+                    }
                 }
                 lower = Some(match lower {
                     None => l,
