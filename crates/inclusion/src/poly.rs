@@ -12,9 +12,7 @@
 //! bound.
 
 use boundtrace_ia_core::Real;
-use boundtrace_ia_core::round::{
-    add_down, add_up, div_down, div_up, mul_down, mul_up, sqrt_down, sub_down,
-};
+use boundtrace_ia_core::round::{add_down, add_up, div_down, div_up, mul_down, mul_up, sub_down};
 
 /// `a · b` rounded down; `0 · x = 0`; NaN → `−∞`.
 #[inline]
@@ -281,12 +279,12 @@ fn prod<T: Real>(p: T, q: T) -> (T, T) {
 /// fused multiply-add only lowers the error). Much cheaper than directed
 /// rounding of every product and sum, and as sound.
 #[inline]
-fn dot<T: Real>(xs: &[(T, T)]) -> (T, T) {
+fn dot<T: Real, const N: usize>(xs: [(T, T); N]) -> (T, T) {
     let mut s = T::ZERO;
     let mut m = T::ZERO;
     let mut n = 0u32;
     let mut i = 0;
-    while i < xs.len() {
+    while i < N {
         let (x, y) = xs[i];
         i += 1;
         if x == T::ZERO || y == T::ZERO {
@@ -311,10 +309,10 @@ fn dot<T: Real>(xs: &[(T, T)]) -> (T, T) {
 pub(crate) fn quartic<T: Real>(p: Side<T>, q: Side<T>) -> [(T, T); 5] {
     [
         prod(p.s, q.s),
-        dot(&[(p.s, q.a), (p.a, q.s)]),
-        dot(&[(p.s, q.b), (p.a, q.a), (p.b, q.s)]),
-        dot(&[(p.a, q.b), (p.b, q.a)]),
-        dot(&[(p.b, q.b)]),
+        dot([(p.s, q.a), (p.a, q.s)]),
+        dot([(p.s, q.b), (p.a, q.a), (p.b, q.s)]),
+        dot([(p.a, q.b), (p.b, q.a)]),
+        dot([(p.b, q.b)]),
     ]
 }
 
@@ -564,13 +562,6 @@ pub(crate) fn safe_root_pos<T: Real>(q: Side<T>, h: T) -> Option<T> {
     let slope = add_hi(q.a.abs(), mul_hi(q.b.abs(), h));
     let crude = div_lo(q.s, slope);
     Some(if crude < h { crude.max(T::ZERO) } else { h })
-}
-
-/// `√x` rounded down for `x ≥ 0`.
-#[allow(dead_code)]
-#[inline]
-pub(crate) fn sqrt_lo<T: Real>(x: T) -> T {
-    sqrt_down(x)
 }
 
 #[cfg(test)]
