@@ -166,13 +166,33 @@ impl<T: Real> Side<T> {
         Self::new(-self.s, -self.a, -self.b)
     }
 
+    /// `s + τ(a + bτ)` in round-to-nearest with a rigorous bound on its
+    /// rounding error: Horner's error for degree 2 is at most
+    /// `γ₄·(|s| + τ(|a| + |b|τ))`, `γ₄ ≈ 2ε`; taken as `4ε·(…)` plus
+    /// `4·MIN_POSITIVE` for underflow (also with flush-to-zero). One directed
+    /// operation per bound instead of four.
+    #[inline]
+    fn eval_err(self, tau: T) -> (T, T) {
+        let v = self.s + tau * (self.a + self.b * tau);
+        let m = self.s.abs() + tau * (self.a.abs() + self.b.abs() * tau);
+        let err = m * (T::from_f64(4.0) * T::EPSILON) + T::from_f64(4.0) * T::min_positive_value();
+        (v, err)
+    }
+
     /// `s + τ(a + bτ)` rounded down (`τ ≥ 0`).
     #[inline]
     pub fn at_lo(self, tau: T) -> T {
         if tau == T::ZERO {
             return self.s;
         }
-        add_lo(self.s, mul_lo(tau, add_lo(self.a, mul_lo(self.b, tau))))
+        let (v, err) = self.eval_err(tau);
+        let r = sub_down(v, err);
+        if r.is_nan() {
+            // ∞·0 (an infinite τ or coefficient): directed evaluation, which
+            // treats 0·∞ as 0.
+            return add_lo(self.s, mul_lo(tau, add_lo(self.a, mul_lo(self.b, tau))));
+        }
+        r
     }
 
     /// `s + τ(a + bτ)` rounded up (`τ ≥ 0`).
@@ -181,30 +201,52 @@ impl<T: Real> Side<T> {
         if tau == T::ZERO {
             return self.s;
         }
-        add_hi(self.s, mul_hi(tau, add_hi(self.a, mul_hi(self.b, tau))))
+        let (v, err) = self.eval_err(tau);
+        let r = add_up(v, err);
+        if r.is_nan() {
+            return add_hi(self.s, mul_hi(tau, add_hi(self.a, mul_hi(self.b, tau))));
+        }
+        r
+    }
+
+    /// The vertex `τv = −a/(2b)` when it may lie in `(0, h]` (a generous
+    /// test: including it is always sound), with `b`'s sign.
+    #[inline]
+    fn vertex_in(self, h: T) -> bool {
+        let (a, b) = (self.a, self.b);
+        if b == T::ZERO || a == T::ZERO || (a < T::ZERO) == (b < T::ZERO) {
+            return false;
+        }
+        let tv = -a / (b + b);
+        !(tv > h * (T::ONE + T::from_f64(1.0 / 1024.0)))
+    }
+
+    /// A lower bound of the side's minimum over `τ ∈ [0, h]`.
+    pub fn range_lo(self, h: T) -> T {
+        let lo = min_lo(self.s, self.at_lo(h));
+        if self.b > T::ZERO && self.vertex_in(h) {
+            let aa = mul_hi(self.a, self.a);
+            let v = sub_lo(self.s, div_hi(aa, mul_lo(T::from_f64(4.0), self.b)));
+            return min_lo(lo, v);
+        }
+        lo
+    }
+
+    /// An upper bound of the side's maximum over `τ ∈ [0, h]`.
+    pub fn range_hi(self, h: T) -> T {
+        let hi = max_hi(self.s, self.at_hi(h));
+        if self.b < T::ZERO && self.vertex_in(h) {
+            let aa = mul_hi(self.a, self.a);
+            let v = add_hi(self.s, div_hi(aa, mul_lo(T::from_f64(4.0), -self.b)));
+            return max_hi(hi, v);
+        }
+        hi
     }
 
     /// A sound enclosure `(lo, hi)` of the side's range over `τ ∈ [0, h]`.
+    #[inline]
     pub fn range(self, h: T) -> (T, T) {
-        let mut lo = min_lo(self.s, self.at_lo(h));
-        let mut hi = max_hi(self.s, self.at_hi(h));
-        let (a, b) = (self.a, self.b);
-        if b != T::ZERO && (a < T::ZERO) != (b < T::ZERO) && a != T::ZERO {
-            // The vertex τv = −a/(2b) > 0; include its value when it may lie
-            // in [0, h] (a generous test: including it is always sound).
-            let tv = -a / (b + b);
-            if !(tv > h * (T::ONE + T::from_f64(1.0 / 1024.0))) {
-                let aa = mul_hi(a, a);
-                if b > T::ZERO {
-                    let v = sub_lo(self.s, div_hi(aa, mul_lo(T::from_f64(4.0), b)));
-                    lo = min_lo(lo, v);
-                } else {
-                    let v = add_hi(self.s, div_hi(aa, mul_lo(T::from_f64(4.0), -b)));
-                    hi = max_hi(hi, v);
-                }
-            }
-        }
-        (lo, hi)
+        (self.range_lo(h), self.range_hi(h))
     }
 
     /// Whether `u(τ) = τ(a + bτ)` may be positive / negative somewhere on
@@ -319,7 +361,7 @@ pub(crate) fn quartic<T: Real>(p: Side<T>, q: Side<T>) -> [(T, T); 5] {
 /// A lower bound of `min_{τ∈[0,h]} (c₂ + c₃τ + c₄τ²)` from lower coefficients.
 fn min_tail<T: Real>(c2: T, c3: T, c4: T, h: T) -> T {
     let r = Side::new(c2, c3, c4);
-    r.range(h).0
+    r.range_lo(h)
 }
 
 /// Degree reduction of a quartic (given by coefficient bounds) to a lower
@@ -333,7 +375,7 @@ pub(crate) fn reduce_lo<T: Real>(c: [(T, T); 5], h: T) -> Side<T> {
 /// Upper counterpart of [`reduce_lo`].
 pub(crate) fn reduce_hi<T: Real>(c: [(T, T); 5], h: T) -> Side<T> {
     let r = Side::new(c[2].1, c[3].1, c[4].1);
-    Side::new(c[0].1, c[1].1, r.range(h).1)
+    Side::new(c[0].1, c[1].1, r.range_hi(h))
 }
 
 /// The paper's quadratic multiplication (forward-inclusion §6.2, Fig. 8):
@@ -440,10 +482,11 @@ pub(crate) fn reduce_hi_fig8<T: Real>(c: [(T, T); 5], h: T) -> Option<Side<T>> {
     reduce_lo_fig8(neg_quartic(c), h).map(Side::neg)
 }
 
-/// A float estimate (no rounding control) of the value at `τ = h` of the
+/// A float estimate (no rounding control) of the values at `τ = h/2` and
+/// `τ = h` of the
 /// [`reduce_lo_fig8`] side, used to skip that (costlier, rigorous)
 /// construction when it cannot beat [`reduce_lo`]. `None` when degenerate.
-pub(crate) fn fig8_lo_end_estimate<T: Real>(c: [(T, T); 5], h: T) -> Option<T> {
+pub(crate) fn fig8_lo_estimate<T: Real>(c: [(T, T); 5], h: T) -> Option<(T, T)> {
     let (c0, c1, c2, c3, c4) = (c[0].0, c[1].0, c[2].0, c[3].0, c[4].0);
     let dp =
         |t: T| c1 + t * (T::TWO * c2 + t * (T::from_f64(3.0) * c3 + t * T::from_f64(4.0) * c4));
@@ -474,8 +517,14 @@ pub(crate) fn fig8_lo_end_estimate<T: Real>(c: [(T, T); 5], h: T) -> Option<T> {
         at0 = at0.min(yu - slope * u);
         ath = ath.min(yu + slope * (h - u));
     }
+    // ∫₀^τ of the line through (0, at0), (h, ath), at τ = h/2 and τ = h.
+    let mid = c0 + h * T::HALF * (at0 + (at0 + ath) * T::HALF) * T::HALF;
     let end = c0 + h * (at0 + ath) * T::HALF;
-    if end.is_finite() { Some(end) } else { None }
+    if mid.is_finite() && end.is_finite() {
+        Some((mid, end))
+    } else {
+        None
+    }
 }
 
 /// Proves `s + aτ + bτ² ≥ 0` on `[0, r]` (given `s > 0`, `r ≥ 0`).

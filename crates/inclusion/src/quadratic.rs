@@ -199,8 +199,8 @@ impl<T: Real> ForwardQuadratic<T> {
             return Interval::EMPTY;
         }
         Interval::new(
-            self.lower_side().range(self.h).0,
-            self.upper_side().range(self.h).1,
+            self.lower_side().range_lo(self.h),
+            self.upper_side().range_hi(self.h),
         )
     }
 
@@ -285,19 +285,6 @@ impl<T: Real> ForwardQuadratic<T> {
         if self.h < other.h { self.h } else { other.h }
     }
 
-    /// An invalid result keeping the interval-arithmetic start value.
-    #[inline]
-    fn invalid_with(start: Interval<T>) -> Self {
-        let mut r = Self::INVALID;
-        if !start.is_empty() {
-            // Keep the (unbounded) start enclosure for diagnostics, h = 0.
-            r.start = start;
-            r.lo = [T::NEG_INFINITY; 2];
-            r.hi = [T::INFINITY; 2];
-        }
-        r
-    }
-
     /// Length up to which the side `q` (with `q.s > 0`) stays `≥ q.s / 2`.
     fn half_way(q: Side<T>, h: T) -> T {
         let half = mul_hi(q.s, T::HALF);
@@ -322,9 +309,9 @@ impl<T: Real> ForwardQuadratic<T> {
         let (fl, fu) = (self.lower_side(), self.upper_side());
         let h = self.h;
         let (qll, quu) = (poly::quartic(fl, fl), poly::quartic(fu, fu));
-        let lower = if fl.range(h).0 >= T::ZERO {
+        let lower = if fl.range_lo(h) >= T::ZERO {
             poly::reduce_lo(qll, h)
-        } else if fu.range(h).1 <= T::ZERO {
+        } else if fu.range_hi(h) <= T::ZERO {
             poly::reduce_lo(quu, h)
         } else if fl.s > T::ZERO {
             let d = fl.s + fl.s;
@@ -466,7 +453,7 @@ impl<T: Real> ForwardQuadratic<T> {
                 // Stop where the upper argument has grown by EXP_GROWTH: the
                 // chord stays finite (no overflow) and meaningful.
                 let cap = add_lo(fu.s, T::from_f64(EXP_GROWTH));
-                if cap > fu.s && fu.range(h).1 > cap {
+                if cap > fu.s && fu.range_hi(h) > cap {
                     let room = Side::new(sub_lo(cap, fu.s), -fu.a, -fu.b);
                     if let Some(r) = poly::safe_root_pos(room, h) {
                         h = r;
@@ -497,12 +484,12 @@ impl<T: Real> ForwardQuadratic<T> {
                     let (lower, h2) = compose::chord(phi, fu, h, false, mode, false);
                     Self::from_sides(lower, upper, h2, mode)
                 } else {
-                    Self::invalid_with(start)
+                    Self::INVALID
                 }
             }
             Unary::Pow(p) if p < T::ZERO => {
                 if !pos {
-                    return Self::invalid_with(start);
+                    return Self::INVALID;
                 }
                 h = Self::half_way(fl, h);
                 let lower = compose::tangent(phi, fu, false);
@@ -534,7 +521,7 @@ impl<T: Real> ForwardQuadratic<T> {
                         Unary::Pow(p) => Interval::point(x0).pow(p - T::ONE) * p,
                         _ => (Interval::point(x0).sqrt() * T::TWO).recip(),
                     };
-                    let i0 = fu.range(h2).0;
+                    let i0 = fu.range_lo(h2);
                     let mut dl = d.lo();
                     if i0 < T::ZERO {
                         // Stay ≥ 0 down to I₀ (the function is 0 there).
@@ -553,7 +540,7 @@ impl<T: Real> ForwardQuadratic<T> {
                         true,
                     )
                 } else {
-                    let i1 = fu.range(h2).1;
+                    let i1 = fu.range_hi(h2);
                     let top = phi.eval(Interval::point(if i1 > T::ZERO { i1 } else { T::ZERO }));
                     if top.is_empty() {
                         compose::unbounded(T::INFINITY, true)
@@ -596,10 +583,10 @@ impl<T: Real> ForwardQuadratic<T> {
         if !self.is_valid() {
             return self;
         }
-        if self.start.lo() >= T::ZERO && self.lower_side().range(self.h).0 >= T::ZERO {
+        if self.start.lo() >= T::ZERO && self.lower_side().range_lo(self.h) >= T::ZERO {
             return self;
         }
-        if self.start.hi() <= T::ZERO && self.upper_side().range(self.h).1 <= T::ZERO {
+        if self.start.hi() <= T::ZERO && self.upper_side().range_hi(self.h) <= T::ZERO {
             return -self;
         }
         let m = self.max(-self);
@@ -745,18 +732,20 @@ impl<T: Real> Mul for ForwardQuadratic<T> {
                 let mut u = poly::reduce_hi(c, h);
                 // The Fig. 8 rule only matters with cubic/quartic terms, and
                 // is only computed (rigorously) when a float estimate says it
-                // is tighter at h.
+                // is tighter half way and at the end (see `fig8_if_tighter`).
                 let cubic = c[3] != (T::ZERO, T::ZERO) || c[4] != (T::ZERO, T::ZERO);
                 if cubic && h.is_finite() {
-                    let slack = T::from_f64(1e-6) * (l.s.abs() + T::ONE);
-                    if poly::fig8_lo_end_estimate(c, h).is_some_and(|e| e > l.at_lo(h) + slack) {
+                    let m = h * T::HALF;
+                    let promising = |est: Option<(T, T)>, ex: Side<T>| {
+                        est.is_some_and(|(em, eh)| em > ex.at_lo(m) && eh > ex.at_lo(h))
+                    };
+                    if promising(poly::fig8_lo_estimate(c, h), l) {
                         if let Some(l8) = poly::reduce_lo_fig8(c, h) {
                             l = fig8_if_tighter(l, l8, h);
                         }
                     }
                     let neg = poly::neg_quartic(c);
-                    let slack = T::from_f64(1e-6) * (u.s.abs() + T::ONE);
-                    if poly::fig8_lo_end_estimate(neg, h).is_some_and(|e| e > -u.at_hi(h) + slack) {
+                    if promising(poly::fig8_lo_estimate(neg, h), u.neg()) {
                         if let Some(u8) = poly::reduce_lo_fig8(neg, h) {
                             u = fig8_if_tighter(u.neg(), u8, h).neg();
                         }
