@@ -187,16 +187,19 @@ pub(crate) fn tangent<T: Real>(phi: Unary<T>, q: Side<T>, upper: bool) -> Side<T
 /// lower bound of concave `φ ∘ q` (`upper = false`) on `τ ∈ [0, h]`.
 ///
 /// Returns the side and the (possibly shortened) validity length.
-/// `floor_at_zero`: the argument is clamped at `0` (sqrt-like functions
-/// bounded as `φ(max(x, 0))`), which keeps the chord to `(0, φ(0))` valid
-/// for negative `x` too.
+/// `known`: a range the argument is known to stay in on `[0, h]` (proven by
+/// the caller's domain shortening, e.g. `x ≥ x₀/2` before a pole), which
+/// the computed range is intersected with: near the float range's bottom the
+/// outward-rounded range is wider than the truth and could otherwise reach
+/// across the pole. For sqrt-like functions bounded as `φ(max(x, 0))` it is
+/// `[0, ∞]`, which keeps the chord to `(0, φ(0))` valid for negative `x` too.
 pub(crate) fn chord<T: Real>(
     phi: Unary<T>,
     q: Side<T>,
     h: T,
     upper: bool,
     mode: Composition,
-    floor_at_zero: bool,
+    known: (T, T),
 ) -> (Side<T>, T) {
     let x0 = q.s;
     let v0 = phi.at(x0);
@@ -219,9 +222,18 @@ pub(crate) fn chord<T: Real>(
             }
         }
     }
-    let (mut i0, i1) = q.range(h);
-    if floor_at_zero && i0 < T::ZERO {
-        i0 = T::ZERO;
+    let (mut i0, mut i1) = q.range(h);
+    if i0 < known.0 {
+        i0 = known.0;
+    }
+    if i1 > known.1 {
+        i1 = known.1;
+    }
+    if i0 > x0 {
+        i0 = x0;
+    }
+    if i1 < x0 {
+        i1 = x0;
     }
     if !i0.is_finite() || !i1.is_finite() {
         return (unbounded(if upper { v0.hi() } else { v0.lo() }, upper), h);
@@ -249,8 +261,8 @@ pub(crate) fn chord<T: Real>(
     // Left slope (x ∈ [I₀, x₀]) and right slope (x ∈ [x₀, I₁]).
     let left = if fall && i0 < x0 {
         let p = phi.at(i0);
-        if p.is_empty() {
-            None
+        if p.is_empty() || !p.is_bounded() {
+            return (unbounded(l0, upper), h);
         } else if upper {
             // ℓ₀ + sL(I₀ − x₀) ≥ φ(I₀)  ⇔  sL ≤ (ℓ₀ − φ(I₀)) / (x₀ − I₀)
             Some(slope_lo(sub_lo(l0, p.hi()), x0, i0))
@@ -262,8 +274,8 @@ pub(crate) fn chord<T: Real>(
     };
     let right = if rise && i1 > x0 {
         let p = phi.at(i1);
-        if p.is_empty() {
-            None
+        if p.is_empty() || !p.is_bounded() {
+            return (unbounded(l0, upper), h);
         } else if upper {
             Some(slope_hi(sub_hi(p.hi(), l0), i1, x0))
         } else {
@@ -284,6 +296,8 @@ pub(crate) fn chord<T: Real>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    const ALL: (f64, f64) = (f64::NEG_INFINITY, f64::INFINITY);
 
     fn check(phi: impl Fn(f64) -> f64, q: Side<f64>, side: Side<f64>, h: f64, upper: bool) {
         for i in 0..=200 {
@@ -307,7 +321,7 @@ mod tests {
             Composition::RelaxStart,
             Composition::RelaxMax,
         ] {
-            let (up, h) = chord(Unary::Exp, q, 3.0, true, mode, false);
+            let (up, h) = chord(Unary::Exp, q, 3.0, true, mode, ALL);
             assert!(h > 0.0 && h <= 3.0);
             if mode == Composition::ValidityInterval {
                 assert!(h <= 2.0);
@@ -326,7 +340,14 @@ mod tests {
     #[test]
     fn sqrt_lower_chord_through_zero() {
         let q = Side::new(4.0f64, -3.0, 0.0); // goes negative at τ = 4/3
-        let (lo, h) = chord(Unary::Sqrt, q, 2.0, false, Composition::RelaxMax, true);
+        let (lo, h) = chord(
+            Unary::Sqrt,
+            q,
+            2.0,
+            false,
+            Composition::RelaxMax,
+            (0.0, f64::INFINITY),
+        );
         check(|x| x.max(0.0).sqrt(), q, lo, h, false);
     }
 }

@@ -285,19 +285,22 @@ impl<T: Real> ForwardQuadratic<T> {
         if self.h < other.h { self.h } else { other.h }
     }
 
-    /// Length up to which the side `q` (with `q.s > 0`) stays `≥ q.s / 2`.
-    fn half_way(q: Side<T>, h: T) -> T {
+    /// Length up to which the side `q` (with `q.s > 0`) stays `≥ q.s / 2`,
+    /// and the floor it provably stays above there.
+    fn half_way(q: Side<T>, h: T) -> (T, T) {
         let half = mul_hi(q.s, T::HALF);
         let shifted = Side::new(sub_lo(q.s, half), q.a, q.b);
         if !(shifted.s > T::ZERO) {
             // q.s is the least subnormal: half of it is not representable.
             // Stop half way to the side's root instead (it is still > 0).
-            return match poly::safe_root_pos(q, h) {
+            let hh = match poly::safe_root_pos(q, h) {
                 Some(r) => r * T::HALF,
                 None => h,
             };
+            return (hh, T::ZERO);
         }
-        poly::safe_root_pos(shifted, h).unwrap_or(h)
+        // shifted ≥ 0 on [0, h'] means q = shifted + (q.s − shifted.s) ≥ half.
+        (poly::safe_root_pos(shifted, h).unwrap_or(h), half)
     }
 
     /// `x²` (tighter than `x · x`): exact polynomial squares of the sides
@@ -446,6 +449,8 @@ impl<T: Real> ForwardQuadratic<T> {
         let (fl, fu) = (self.lower_side(), self.upper_side());
         let mode = self.mode;
         let mut h = self.h;
+        let all = (T::NEG_INFINITY, T::INFINITY);
+        let nonneg = (T::ZERO, T::INFINITY);
         let pos = self.start.lo() > T::ZERO;
         let neg = self.start.hi() < T::ZERO;
         match phi {
@@ -460,28 +465,32 @@ impl<T: Real> ForwardQuadratic<T> {
                     }
                 }
                 let lower = compose::tangent(phi, fl, false);
-                let (upper, h2) = compose::chord(phi, fu, h, true, mode, false);
+                let (upper, h2) = compose::chord(phi, fu, h, true, mode, all);
                 Self::from_sides(lower, upper, h2, mode)
             }
             Unary::Recip | Unary::Ln => {
                 if pos {
-                    h = Self::half_way(fl, h);
+                    let (hh, floor) = Self::half_way(fl, h);
+                    h = hh;
+                    let known = (floor, T::INFINITY);
                     if phi == Unary::Recip {
                         // convex decreasing
                         let lower = compose::tangent(phi, fu, false);
-                        let (upper, h2) = compose::chord(phi, fl, h, true, mode, false);
+                        let (upper, h2) = compose::chord(phi, fl, h, true, mode, known);
                         Self::from_sides(lower, upper, h2, mode)
                     } else {
                         // concave increasing
                         let upper = compose::tangent(phi, fu, true);
-                        let (lower, h2) = compose::chord(phi, fl, h, false, mode, false);
+                        let (lower, h2) = compose::chord(phi, fl, h, false, mode, known);
                         Self::from_sides(lower, upper, h2, mode)
                     }
                 } else if neg && phi == Unary::Recip {
                     // concave decreasing on x < 0
-                    h = Self::half_way(fu.neg(), h);
+                    let (hh, floor) = Self::half_way(fu.neg(), h);
+                    h = hh;
                     let upper = compose::tangent(phi, fl, true);
-                    let (lower, h2) = compose::chord(phi, fu, h, false, mode, false);
+                    let known = (T::NEG_INFINITY, -floor);
+                    let (lower, h2) = compose::chord(phi, fu, h, false, mode, known);
                     Self::from_sides(lower, upper, h2, mode)
                 } else {
                     Self::INVALID
@@ -491,9 +500,10 @@ impl<T: Real> ForwardQuadratic<T> {
                 if !pos {
                     return Self::INVALID;
                 }
-                h = Self::half_way(fl, h);
+                let (hh, floor) = Self::half_way(fl, h);
+                h = hh;
                 let lower = compose::tangent(phi, fu, false);
-                let (upper, h2) = compose::chord(phi, fl, h, true, mode, false);
+                let (upper, h2) = compose::chord(phi, fl, h, true, mode, (floor, T::INFINITY));
                 Self::from_sides(lower, upper, h2, mode)
             }
             Unary::Pow(p) if p > T::ONE => {
@@ -503,14 +513,14 @@ impl<T: Real> ForwardQuadratic<T> {
                 } else {
                     Side::constant(T::ZERO)
                 };
-                let (upper, h2) = compose::chord(phi, fu, h, true, mode, true);
+                let (upper, h2) = compose::chord(phi, fu, h, true, mode, nonneg);
                 Self::from_sides(lower, upper, h2, mode)
             }
             _ => {
                 // Sqrt and 0 < p < 1: concave increasing on x ≥ 0, φ(0) = 0,
                 // bounded as φ(max(x, 0)).
                 let (lower, h2) = if pos {
-                    compose::chord(phi, fl, h, false, mode, true)
+                    compose::chord(phi, fl, h, false, mode, nonneg)
                 } else {
                     (Side::constant(T::ZERO), h)
                 };
