@@ -26,6 +26,9 @@
 //! - [`Affine`]: revised affine arithmetic (Fryazinov, Pasko and Comninos
 //!   2010): a centre, `N` noise-symbol coefficients and one accumulated error
 //!   term; rounding errors are added to that term, so forms stay sound.
+//! - [`round`]: the outward-rounded basic operations themselves (`add_down`,
+//!   `mul_up`, …), for code that builds its own sound bounds (the forward
+//!   inclusion functions of `boundtrace-inclusion` do).
 //!
 //! # Conventions
 //!
