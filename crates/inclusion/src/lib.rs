@@ -84,9 +84,9 @@
 //! Forward bounds do much more work per operation than intervals (measured
 //! with `cargo bench --bench inclusion_fields`: a Gaussian blob is about 10×
 //! the interval cost, a compact blob about 40×); the papers' point is that
-//! far fewer marching steps are needed. [`ForwardLinear`] reuses the
-//! quadratic rules and folds the result, so it costs about as much as
-//! [`ForwardQuadratic`].
+//! far fewer marching steps are needed. [`ForwardLinear`] computes sums,
+//! scalar operations and products on lines directly and reuses the quadratic
+//! rules (folded back to lines) for the others.
 //!
 //! # Features
 //!

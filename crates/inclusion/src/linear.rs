@@ -1,7 +1,7 @@
 //! [`ForwardLinear`]: asymmetric linear forward inclusion functions
 //! (forward-inclusion paper §5).
 
-use crate::poly::{mul_hi, mul_lo};
+use crate::poly::{add_hi, add_lo, dot, max_hi, min_lo, mul_hi, mul_lo};
 use crate::quadratic::ForwardQuadratic;
 use boundtrace_ia_core::{Interval, Real};
 use core::ops::{Add, Div, Mul, Neg, Sub};
@@ -17,8 +17,9 @@ use core::ops::{Add, Div, Mul, Neg, Sub};
 /// with independent lower and upper slopes `m₋`, `m₊` and a validity length
 /// `h` (paper §4.2).
 ///
-/// The bottom-up rules of §5.2 are those of [`ForwardQuadratic`] with every
-/// result folded back to lines over `[0, h]` (`bτ² ≥ min(0, b·h)·τ` for the
+/// Sums, scalar operations and products are computed directly on lines;
+/// the other bottom-up rules of §5.2 are those of [`ForwardQuadratic`] with
+/// the result folded back to lines over `[0, h]` (`bτ² ≥ min(0, b·h)·τ` for the
 /// lower side): for the operations of the paper this *is* the linear rule —
 /// a convex quadratic gets its tangent below and its chord above (eq. 17),
 /// a product its four corner quadratics bounded by their extreme slopes,
@@ -254,7 +255,15 @@ impl<T: Real> Add for ForwardLinear<T> {
     /// Paper eq. 16, rounded outward.
     #[inline]
     fn add(self, rhs: Self) -> Self {
-        self.lift2(rhs, |a, b| a + b)
+        if !self.is_valid() || !rhs.is_valid() {
+            return Self::INVALID;
+        }
+        Self::from_parts(
+            self.start + rhs.start,
+            add_lo(self.lo, rhs.lo),
+            add_hi(self.hi, rhs.hi),
+            min_h(self.h, rhs.h),
+        )
     }
 }
 
@@ -273,7 +282,38 @@ impl<T: Real> Mul for ForwardLinear<T> {
     /// its tangent/chord; extreme slopes (paper §5.2 "Multiplication").
     #[inline]
     fn mul(self, rhs: Self) -> Self {
-        self.lift2(rhs, |a, b| a * b)
+        if !self.is_valid() || !rhs.is_valid() {
+            return Self::INVALID;
+        }
+        let h = min_h(self.h, rhs.h);
+        let fs = [(self.start.lo(), self.lo), (self.start.hi(), self.hi)];
+        let gs = [(rhs.start.lo(), rhs.lo), (rhs.start.hi(), rhs.hi)];
+        let (mut s_lo, mut s_hi) = (T::INFINITY, T::NEG_INFINITY);
+        let (mut m_lo, mut m_hi) = (T::INFINITY, T::NEG_INFINITY);
+        for (f0, f1) in fs {
+            for (g0, g1) in gs {
+                // (f0 + f1τ)(g0 + g1τ) = c0 + c1τ + c2τ²; over [0, h] its
+                // tangent is below and its chord above when c2 ≥ 0 (and the
+                // reverse when c2 < 0): slopes c1 + min/max(0, c2·h).
+                s_lo = min_lo(s_lo, mul_lo(f0, g0));
+                s_hi = max_hi(s_hi, mul_hi(f0, g0));
+                let (c1_lo, c1_hi) = dot([(f0, g1), (f1, g0)]);
+                let (c2_lo, c2_hi) = (mul_lo(f1, g1), mul_hi(f1, g1));
+                let dl = if c2_lo < T::ZERO {
+                    mul_lo(c2_lo, h)
+                } else {
+                    T::ZERO
+                };
+                let dh = if c2_hi > T::ZERO {
+                    mul_hi(c2_hi, h)
+                } else {
+                    T::ZERO
+                };
+                m_lo = min_lo(m_lo, add_lo(c1_lo, dl));
+                m_hi = max_hi(m_hi, add_hi(c1_hi, dh));
+            }
+        }
+        Self::from_parts(Interval::new(s_lo, s_hi), m_lo, m_hi, h)
     }
 }
 
@@ -291,7 +331,10 @@ impl<T: Real> Add<T> for ForwardLinear<T> {
     /// Shifts the start (rounded outward).
     #[inline]
     fn add(self, c: T) -> Self {
-        Self::from_quadratic(self.to_quadratic() + c)
+        if !self.is_valid() || !c.is_finite() {
+            return Self::INVALID;
+        }
+        Self::from_parts(self.start + c, self.lo, self.hi, self.h)
     }
 }
 
@@ -330,6 +373,12 @@ impl<T: Real> Div<T> for ForwardLinear<T> {
     fn div(self, c: T) -> Self {
         Self::from_quadratic(self.to_quadratic() / c)
     }
+}
+
+/// The shorter of two validity lengths.
+#[inline]
+fn min_h<T: Real>(a: T, b: T) -> T {
+    if a < b { a } else { b }
 }
 
 #[cfg(test)]

@@ -321,7 +321,7 @@ fn prod<T: Real>(p: T, q: T) -> (T, T) {
 /// fused multiply-add only lowers the error). Much cheaper than directed
 /// rounding of every product and sum, and as sound.
 #[inline]
-fn dot<T: Real, const N: usize>(xs: [(T, T); N]) -> (T, T) {
+pub(crate) fn dot<T: Real, const N: usize>(xs: [(T, T); N]) -> (T, T) {
     let mut s = T::ZERO;
     let mut m = T::ZERO;
     let mut n = 0u32;
