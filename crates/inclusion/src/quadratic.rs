@@ -442,8 +442,13 @@ impl<T: Real> ForwardQuadratic<T> {
         if !self.is_valid() {
             return self;
         }
-        let start = phi.eval(self.start);
-        if start.is_empty() {
+        // Undefined at t₀: x < 0 for the x ≥ 0 functions. (The poles of
+        // recip, ln and negative powers are handled per branch below; the
+        // start value itself comes from the sides, so φ is not evaluated on
+        // the start enclosure separately.)
+        let nonneg_domain =
+            matches!(phi, Unary::Sqrt) || matches!(phi, Unary::Pow(p) if p > T::ZERO);
+        if nonneg_domain && self.start.hi() < T::ZERO {
             return Self::INVALID;
         }
         let (fl, fu) = (self.lower_side(), self.upper_side());
