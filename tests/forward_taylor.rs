@@ -147,7 +147,7 @@ fn check_case<T: Flt + FieldNum<T>>(seed: u64) -> Result<(), TestCaseError> {
                 b.name
             )
         };
-        if !(b.h > 0.0) || r::lt(&big(t1), &add_exact(&bt0, &r::from_f64(b.h))) {
+        if b.h.is_nan() || b.h <= 0.0 || r::lt(&big(t1), &add_exact(&bt0, &r::from_f64(b.h))) {
             return Err(TestCaseError::fail(format!(
                 "validity h={:e}; {}",
                 b.h,
