@@ -227,6 +227,23 @@ impl<T: Real> ForwardLinear<T> {
         self.lift2(other, |a, b| a.max(b))
     }
 
+    /// A bound enclosing both `self` and `other` (their hull): the lower
+    /// side of `min(self, other)`, the upper side of `max(self, other)`, the
+    /// shorter validity. Used where a field's branch cannot be decided on
+    /// the interval, so both branches are kept.
+    pub fn join(self, other: Self) -> Self {
+        if !self.is_valid() || !other.is_valid() {
+            return Self::INVALID;
+        }
+        let lo = self.min(other);
+        let hi = self.max(other);
+        if !lo.is_valid() || !hi.is_valid() {
+            return Self::INVALID;
+        }
+        let h = if lo.h < hi.h { lo.h } else { hi.h };
+        Self::from_parts(Interval::new(lo.start.lo(), hi.start.hi()), lo.lo, hi.hi, h)
+    }
+
     /// `min(f, g)`.
     pub fn min(self, other: Self) -> Self {
         self.lift2(other, |a, b| a.min(b))

@@ -69,6 +69,21 @@ pub trait FieldNum<T: Real>:
     fn min(self, other: Self) -> Self;
     /// `max(x, y)`.
     fn max(self, other: Self) -> Self;
+    /// A sound enclosure of every value `self` stands for on its interval:
+    /// the point itself for `T` and [`Jet`] (its value), the interval, the
+    /// affine form's range, the forward bound's range over its validity.
+    /// Fields use it to decide branches (e.g. a compact operator's range of
+    /// interaction).
+    fn enclosure(&self) -> Interval<T>;
+    /// A number enclosing both `self` and `other`, for a branch that
+    /// [`enclosure`](Self::enclosure) cannot decide: the hull for
+    /// `Interval`/`Affine`, the lower side of the minimum and the upper side
+    /// of the maximum for the forward types.
+    ///
+    /// Point types (`T`, [`Jet`]) always decide their branch, so for them
+    /// `join` returns `self`: call it only when the branches agree at the
+    /// point (e.g. on the boundary of a continuous piecewise definition).
+    fn join(self, other: Self) -> Self;
     /// `max(1 − x, 0)`: the clamped `1 − x` of compact kernels.
     #[inline]
     fn one_minus_clamped(self) -> Self {
@@ -103,6 +118,10 @@ macro_rules! float_num {
             fn min(self, o: Self) -> Self { Float::min(self, o) }
             #[inline]
             fn max(self, o: Self) -> Self { Float::max(self, o) }
+            #[inline]
+            fn enclosure(&self) -> Interval<$t> { Interval::point(*self) }
+            #[inline]
+            fn join(self, _o: Self) -> Self { self }
         }
     )*};
 }
@@ -110,7 +129,7 @@ float_num!(f32, f64);
 
 /// Forwards the trait to inherent methods of the same names.
 macro_rules! forward_num {
-    ($ty:ty, [$($gen:tt)*], $ray:expr) => {
+    ($ty:ty, [$($gen:tt)*], $ray:expr, $encl:expr, $join:expr) => {
         impl<$($gen)*> FieldNum<T> for $ty {
             #[inline]
             fn constant(c: T) -> Self { <$ty>::constant(c) }
@@ -136,13 +155,35 @@ macro_rules! forward_num {
             fn min(self, o: Self) -> Self { <$ty>::min(self, o) }
             #[inline]
             fn max(self, o: Self) -> Self { <$ty>::max(self, o) }
+            #[inline]
+            fn enclosure(&self) -> Interval<T> { ($encl)(self) }
+            #[inline]
+            fn join(self, o: Self) -> Self { ($join)(self, o) }
         }
     };
 }
 
-forward_num!(Jet<T>, [T: Real], |t0, _t1| Jet::variable(t0));
-forward_num!(ForwardLinear<T>, [T: Real], ForwardLinear::ray_param);
-forward_num!(ForwardQuadratic<T>, [T: Real], ForwardQuadratic::ray_param);
+forward_num!(
+    Jet<T>,
+    [T: Real],
+    |t0, _t1| Jet::variable(t0),
+    |j: &Jet<T>| Interval::point(j.v),
+    |a, _b| a
+);
+forward_num!(
+    ForwardLinear<T>,
+    [T: Real],
+    ForwardLinear::ray_param,
+    ForwardLinear::range,
+    ForwardLinear::join
+);
+forward_num!(
+    ForwardQuadratic<T>,
+    [T: Real],
+    ForwardQuadratic::ray_param,
+    ForwardQuadratic::range,
+    ForwardQuadratic::join
+);
 
 impl<T: Real> FieldNum<T> for Interval<T> {
     #[inline]
@@ -192,6 +233,14 @@ impl<T: Real> FieldNum<T> for Interval<T> {
     #[inline]
     fn max(self, o: Self) -> Self {
         Interval::max(self, o)
+    }
+    #[inline]
+    fn enclosure(&self) -> Interval<T> {
+        *self
+    }
+    #[inline]
+    fn join(self, o: Self) -> Self {
+        self.hull(o)
     }
 }
 
@@ -266,5 +315,13 @@ impl<T: Real, const N: usize> FieldNum<T> for Affine<T, N> {
     #[inline]
     fn max(self, o: Self) -> Self {
         Affine::max(self, o)
+    }
+    #[inline]
+    fn enclosure(&self) -> Interval<T> {
+        self.to_interval()
+    }
+    #[inline]
+    fn join(self, o: Self) -> Self {
+        Affine::from_interval(self.to_interval().hull(o.to_interval()))
     }
 }

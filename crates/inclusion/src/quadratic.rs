@@ -588,6 +588,30 @@ impl<T: Real> ForwardQuadratic<T> {
         Self::from_sides(lower, upper, h, mode)
     }
 
+    /// A bound enclosing both `self` and `other` (their hull): the lower
+    /// side of `min(self, other)` below, the upper side of
+    /// `max(self, other)` above (App. C), the shorter validity. Used where a
+    /// field's branch cannot be decided on the interval, so both branches
+    /// are kept.
+    pub fn join(self, other: Self) -> Self {
+        if !self.is_valid() || !other.is_valid() {
+            return Self::INVALID;
+        }
+        let lo = self.min(other);
+        let hi = self.max(other);
+        if !lo.is_valid() || !hi.is_valid() {
+            return Self::INVALID;
+        }
+        let h = if lo.h < hi.h { lo.h } else { hi.h };
+        Self {
+            start: Interval::new(lo.start.lo(), hi.start.hi()),
+            lo: lo.lo,
+            hi: hi.hi,
+            h,
+            mode: self.mode.join(other.mode),
+        }
+    }
+
     /// `min(f, g) = −max(−f, −g)`.
     pub fn min(self, other: Self) -> Self {
         -((-self).max(-other))
