@@ -73,6 +73,8 @@ enum Op {
     Recip(usize),
     Exp(usize),
     Ln(usize),
+    Sin(usize),
+    Cos(usize),
     Abs(usize),
     OneMinus(usize),
     AddC(usize, f32),
@@ -147,8 +149,8 @@ impl Tree {
                 self.push(Op::C(c))
             };
         }
-        let k = rng.below(20);
-        if k < 13 {
+        let k = rng.below(22);
+        if k < 15 {
             let x = self.node(rng, depth - 1);
             let guarded = rng.below(2) == 0;
             let op = match k {
@@ -176,6 +178,8 @@ impl Tree {
                 9 => Op::OneMinus(x),
                 10 => Op::AddC(x, rng.range(-2.0, 2.0)),
                 11 => Op::MulC(x, rng.range(-3.0, 3.0)),
+                13 => Op::Sin(x),
+                14 => Op::Cos(x),
                 _ => {
                     let mut c = rng.range(-3.0, 3.0);
                     if c.abs() < 0.1 {
@@ -195,10 +199,10 @@ impl Tree {
                 (a, self.node(rng, depth - 1))
             };
             let op = match k {
-                13 | 14 => Op::Add(a, b),
-                15 => Op::Sub(a, b),
-                16 => Op::Mul(a, b),
-                17 => {
+                15 | 16 => Op::Add(a, b),
+                17 => Op::Sub(a, b),
+                18 => Op::Mul(a, b),
+                19 => {
                     let b = if rng.below(2) == 0 {
                         self.guard(rng, b)
                     } else {
@@ -206,7 +210,7 @@ impl Tree {
                     };
                     Op::Div(a, b)
                 }
-                18 => Op::Min(a, b),
+                20 => Op::Min(a, b),
                 _ => Op::Max(a, b),
             };
             self.push(op)
@@ -234,6 +238,8 @@ impl Tree {
                 Op::Recip(a) => v[a].recip(),
                 Op::Exp(a) => v[a].exp(),
                 Op::Ln(a) => v[a].ln(),
+                Op::Sin(a) => v[a].sin(),
+                Op::Cos(a) => v[a].cos(),
                 Op::Abs(a) => v[a].abs(),
                 Op::OneMinus(a) => v[a].one_minus_clamped(),
                 Op::AddC(a, x) => v[a] + c(x),
@@ -352,6 +358,19 @@ impl Tree {
                         return None;
                     }
                     with_cc(|cc| v[a].ln(PREC, Rm::ToEven, cc))
+                }
+                Op::Sin(a) | Op::Cos(a) => {
+                    // Huge arguments need more precision for the reduction
+                    // than PREC gives; no tree of this test reaches them
+                    // with a meaningful bound.
+                    if r::lt(&r::from_f64(1e6), &v[a].abs()) {
+                        return None;
+                    }
+                    if matches!(*op, Op::Sin(_)) {
+                        with_cc(|cc| v[a].sin(PREC, Rm::ToEven, cc))
+                    } else {
+                        with_cc(|cc| v[a].cos(PREC, Rm::ToEven, cc))
+                    }
                 }
                 Op::Abs(a) => v[a].abs(),
                 Op::OneMinus(a) => r::max(one.sub(&v[a], PREC, Rm::ToEven), zero.clone()),

@@ -72,6 +72,11 @@ pub(crate) enum Unary<T> {
     Recip,
     /// `max(x, 0)^p` for a non-integer `p` (`x > 0` for `p < 0`).
     Pow(T),
+    /// `sin x`, composed only on a quarter period where it is monotone
+    /// and convex or concave.
+    Sin,
+    /// `cos x`, as `Sin`.
+    Cos,
 }
 
 impl<T: Real> Unary<T> {
@@ -84,6 +89,8 @@ impl<T: Real> Unary<T> {
             Self::Sqrt => x.sqrt(),
             Self::Recip => x.recip(),
             Self::Pow(p) => x.pow(p),
+            Self::Sin => x.sin(),
+            Self::Cos => x.cos(),
         }
     }
 
@@ -109,6 +116,8 @@ impl<T: Real> Unary<T> {
             Self::Sqrt => (xi.sqrt() * T::TWO).recip(),
             Self::Recip => -(xi.sqr().recip()),
             Self::Pow(p) => xi.pow(p - T::ONE) * p,
+            Self::Sin => xi.cos(),
+            Self::Cos => -xi.sin(),
         }
     }
 }

@@ -112,6 +112,18 @@ impl<T: Real> Jet<T> {
         self.chain(self.v.ln(), g1, -g1 * g1)
     }
 
+    /// `sin x`.
+    pub fn sin(self) -> Self {
+        let (sv, cv) = (self.v.sin(), self.v.cos());
+        self.chain(sv, cv, -sv)
+    }
+
+    /// `cos x`.
+    pub fn cos(self) -> Self {
+        let (sv, cv) = (self.v.sin(), self.v.cos());
+        self.chain(cv, -sv, -cv)
+    }
+
     /// `|x|` (the derivative's sign follows the sign bit of `x`, so
     /// `|−0| = +0` as in `f64::abs`).
     pub fn abs(self) -> Self {

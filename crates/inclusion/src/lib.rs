@@ -40,14 +40,17 @@
 //! - [`ForwardLinear`], [`ForwardQuadratic`]: bounds `f₋ ≤ f ≤ f₊` on
 //!   `[t₀, t₀ + h]` that are exact at `t₀`, asymmetric, with a validity
 //!   length `h` (paper §4–6); bottom-up rules for `+ − × ÷`, `sqr`, `powi`,
-//!   `powf`, `sqrt`, `recip`, `exp`, `ln`, `abs`, `min`, `max`; Taylor
+//!   `powf`, `sqrt`, `recip`, `exp`, `ln`, `sin`, `cos`, `abs`, `min`,
+//!   `max`, and `join` (the hull of two bounds, for undecided branches); Taylor
 //!   constructors (§5.1, §6.1); "mixed" ([`ForwardQuadratic::tighter`]);
 //!   root finding for safe marching steps ([`ForwardQuadratic::safe_step`]).
 //! - [`Composition`]: the three App. B variants (Fig. 21 a–c).
 //! - [`Jet`]: value, first and second derivative (forward mode).
 //! - [`FieldNum`]: the one arithmetic trait implemented by `f32`/`f64`,
 //!   [`Jet`], [`Interval`](boundtrace_ia_core::Interval),
-//!   [`Affine`](boundtrace_ia_core::Affine) and the forward types.
+//!   [`Affine`](boundtrace_ia_core::Affine) and the forward types, with
+//!   [`enclosure`](FieldNum::enclosure) and [`join`](FieldNum::join) so
+//!   fields can decide (or keep both of) piecewise branches soundly.
 //! - [`Field`], [`Ray`], and helpers ([`gradient`], [`linear_bound`],
 //!   [`quadratic_bound`]).
 //!

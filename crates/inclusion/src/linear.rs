@@ -221,6 +221,17 @@ impl<T: Real> ForwardLinear<T> {
         Self::from_quadratic(self.to_quadratic().sqrt())
     }
 
+    /// `sin x` (the quadratic rule, folded; see
+    /// [`ForwardQuadratic::sin`]).
+    pub fn sin(self) -> Self {
+        Self::from_quadratic(self.to_quadratic().sin())
+    }
+
+    /// `cos x` (the quadratic rule, folded).
+    pub fn cos(self) -> Self {
+        Self::from_quadratic(self.to_quadratic().cos())
+    }
+
     /// `max(f, g)` (paper §5.2): chord of the upper lines' maximum, the lower
     /// line with the higher start.
     pub fn max(self, other: Self) -> Self {

@@ -63,6 +63,10 @@ pub trait FieldNum<T: Real>:
     fn exp(self) -> Self;
     /// `ln x`.
     fn ln(self) -> Self;
+    /// `sin x`.
+    fn sin(self) -> Self;
+    /// `cos x`.
+    fn cos(self) -> Self;
     /// `|x|`.
     fn abs(self) -> Self;
     /// `min(x, y)`.
@@ -113,6 +117,10 @@ macro_rules! float_num {
             #[inline]
             fn ln(self) -> Self { Float::ln(self) }
             #[inline]
+            fn sin(self) -> Self { Float::sin(self) }
+            #[inline]
+            fn cos(self) -> Self { Float::cos(self) }
+            #[inline]
             fn abs(self) -> Self { Float::abs(self) }
             #[inline]
             fn min(self, o: Self) -> Self { Float::min(self, o) }
@@ -149,6 +157,10 @@ macro_rules! forward_num {
             fn exp(self) -> Self { <$ty>::exp(self) }
             #[inline]
             fn ln(self) -> Self { <$ty>::ln(self) }
+            #[inline]
+            fn sin(self) -> Self { <$ty>::sin(self) }
+            #[inline]
+            fn cos(self) -> Self { <$ty>::cos(self) }
             #[inline]
             fn abs(self) -> Self { <$ty>::abs(self) }
             #[inline]
@@ -221,6 +233,14 @@ impl<T: Real> FieldNum<T> for Interval<T> {
     #[inline]
     fn ln(self) -> Self {
         Interval::ln(self)
+    }
+    #[inline]
+    fn sin(self) -> Self {
+        Interval::sin(self)
+    }
+    #[inline]
+    fn cos(self) -> Self {
+        Interval::cos(self)
     }
     #[inline]
     fn abs(self) -> Self {
@@ -303,6 +323,16 @@ impl<T: Real, const N: usize> FieldNum<T> for Affine<T, N> {
     #[inline]
     fn ln(self) -> Self {
         Affine::ln(self)
+    }
+    /// Through the range (sound, forgets the correlation).
+    #[inline]
+    fn sin(self) -> Self {
+        Affine::from_interval(self.to_interval().sin())
+    }
+    /// Through the range (sound, forgets the correlation).
+    #[inline]
+    fn cos(self) -> Self {
+        Affine::from_interval(self.to_interval().cos())
     }
     #[inline]
     fn abs(self) -> Self {

@@ -438,6 +438,90 @@ impl<T: Real> ForwardQuadratic<T> {
         self.monotone(Unary::Pow(p))
     }
 
+    /// `sin x`: on a quarter period `[kπ/2, (k+1)π/2]` containing the input's
+    /// range, sine is monotone and convex or concave, and the tangent/chord
+    /// rules of [`exp`](Self::exp) apply (exact at `t₀`). When the range
+    /// spans a critical or inflection point, the 1-Lipschitz rule
+    /// `sin x(τ) ≤ sup sin(S) + dist(x(τ), S)` (`S` the start enclosure)
+    /// gives both sides, with the distance bounded by the Bézier maximum
+    /// (App. C) of the input's sides and 0.
+    pub fn sin(self) -> Self {
+        self.trig(Unary::Sin)
+    }
+
+    /// `cos x`; see [`sin`](Self::sin).
+    pub fn cos(self) -> Self {
+        self.trig(Unary::Cos)
+    }
+
+    fn trig(self, phi: Unary<T>) -> Self {
+        if !self.is_valid() {
+            return self;
+        }
+        let (fl, fu) = (self.lower_side(), self.upper_side());
+        let (h, mode) = (self.h, self.mode);
+        let all = (T::NEG_INFINITY, T::INFINITY);
+        let (r0, r1) = (fl.range_lo(h), fu.range_hi(h));
+        // Beyond 2^(p−3) floats are too sparse to place quarter periods.
+        let limit = T::from_f64((1u64 << (T::MANTISSA_DIGITS - 3)) as f64);
+        if r0.abs() < limit && r1.abs() < limit {
+            // [qa, qb] ⊇ range·2/π, with 2/π itself enclosed.
+            let two_over_pi = Interval::new(T::FRAC_2_PI.next_down(), T::FRAC_2_PI.next_up());
+            let qa = (Interval::point(r0) * two_over_pi).lo();
+            let qb = (Interval::point(r1) * two_over_pi).hi();
+            let k = qa.floor();
+            if qb <= k + T::ONE {
+                // The range lies in [kπ/2, (k+1)π/2]; k mod 4 (exact, |k| < 2^(p−2)).
+                let four = T::from_f64(4.0);
+                let r = (k - four * (k / four).floor()).to_u32().unwrap_or(0);
+                // (increasing, convex) on the quarter.
+                let (inc, convex) = match (phi, r) {
+                    (Unary::Sin, 0) => (true, false),
+                    (Unary::Sin, 1) => (false, false),
+                    (Unary::Sin, 2) => (false, true),
+                    (Unary::Sin, _) => (true, true),
+                    (_, 0) => (false, false),
+                    (_, 1) => (false, true),
+                    (_, 2) => (true, true),
+                    _ => (true, false),
+                };
+                return match (inc, convex) {
+                    (true, true) => {
+                        let lower = compose::tangent(phi, fl, false);
+                        let (upper, h2) = compose::chord(phi, fu, h, true, mode, all);
+                        Self::from_sides(lower, upper, h2, mode)
+                    }
+                    (true, false) => {
+                        let upper = compose::tangent(phi, fu, true);
+                        let (lower, h2) = compose::chord(phi, fl, h, false, mode, all);
+                        Self::from_sides(lower, upper, h2, mode)
+                    }
+                    (false, true) => {
+                        let lower = compose::tangent(phi, fu, false);
+                        let (upper, h2) = compose::chord(phi, fl, h, true, mode, all);
+                        Self::from_sides(lower, upper, h2, mode)
+                    }
+                    (false, false) => {
+                        let upper = compose::tangent(phi, fl, true);
+                        let (lower, h2) = compose::chord(phi, fu, h, false, mode, all);
+                        Self::from_sides(lower, upper, h2, mode)
+                    }
+                };
+            }
+        }
+        // 1-Lipschitz: with z the point of the start S nearest to x(τ),
+        // φ(x(τ)) ≤ φ(z) + |x(τ) − z| ≤ sup φ(S) + dist(x(τ), S), and
+        // dist(x(τ), S) ≤ max(0, u(τ), −ℓ(τ)) for the sides without their
+        // starts (u = a₊τ + b₊τ², ℓ = a₋τ + b₋τ²); symmetrically below.
+        let v = phi.eval(self.start);
+        let up = Side::new(T::ZERO, fu.a, fu.b);
+        let dn = Side::new(T::ZERO, -fl.a, -fl.b);
+        let d = bezier_max(bezier_max(up, dn, h), Side::constant(T::ZERO), h);
+        let upper = Side::new(v.hi(), d.a, d.b);
+        let lower = Side::new(v.lo(), -d.a, -d.b);
+        Self::from_sides(lower, upper, h, mode)
+    }
+
     fn monotone(self, phi: Unary<T>) -> Self {
         if !self.is_valid() {
             return self;
@@ -879,6 +963,7 @@ impl<T: Real> Div<T> for ForwardQuadratic<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::ForwardLinear;
 
     fn contains_on(b: ForwardQuadratic<f64>, t0: f64, f: impl Fn(f64) -> f64) {
         let h = b.validity();
@@ -892,6 +977,50 @@ mod tests {
                 iv.lo() <= y + tol && y - tol <= iv.hi(),
                 "{y} not in {iv:?} at τ={tau}"
             );
+        }
+    }
+
+    #[test]
+    fn join_encloses_both_operands() {
+        let cases: [(f64, f64); 4] = [(0.0, 1.0), (-1.0, 0.5), (0.2, 3.0), (1.0, 1.25)];
+        for (t0, t1) in cases {
+            let t = ForwardQuadratic::ray_param(t0, t1);
+            let a = (t - 0.3).sqr() - 0.2;
+            let b = (-t).exp() * 0.5;
+            let j = a.join(b);
+            let fa = |x: f64| (x - 0.3) * (x - 0.3) - 0.2;
+            let fb = |x: f64| (-x).exp() * 0.5;
+            contains_on(j, t0, fa);
+            contains_on(j, t0, fb);
+            assert!(j.validity() <= a.validity().min(b.validity()));
+            let l = ForwardLinear::from_quadratic(a).join(ForwardLinear::from_quadratic(b));
+            contains_on(l.to_quadratic(), t0, fa);
+            contains_on(l.to_quadratic(), t0, fb);
+        }
+        assert!(
+            !ForwardQuadratic::<f64>::INVALID
+                .join(ForwardQuadratic::constant(1.0))
+                .is_valid()
+        );
+    }
+
+    #[test]
+    fn sin_cos_on_quarters_and_across_extrema() {
+        // Short intervals stay in one quarter period (tangent/chord rule),
+        // long ones cross extrema (Lipschitz rule).
+        for (t0, t1) in [
+            (0.1f64, 0.4),
+            (2.0, 2.5),
+            (-1.2, -0.9),
+            (0.0, 7.0),
+            (1.0, 2.2),
+        ] {
+            let t = ForwardQuadratic::ray_param(t0, t1);
+            let s = (t * 1.5).sin();
+            let c = (t.sqr() * 0.5).cos();
+            contains_on(s, t0, |x| (1.5 * x).sin());
+            contains_on(c, t0, |x| (0.5 * x * x).cos());
+            assert!(s.start().contains((1.5 * t0).sin()));
         }
     }
 
