@@ -279,7 +279,7 @@ impl<T: Real> Sphere<T> {
     /// `None` when the line misses it or `dir` is zero.
     pub fn ray_entry_exit(&self, origin: [T; 3], dir: [T; 3]) -> Option<(T, T)> {
         let a = dot3(dir, dir);
-        if !(a > T::ZERO) {
+        if a.is_nan() || a <= T::ZERO {
             return None;
         }
         let oc = sub3(origin, self.center);
@@ -293,7 +293,7 @@ impl<T: Real> Sphere<T> {
         let h2 = dot3(closest, closest);
         let r = self.radius + self.tolerance();
         let w2 = r * r - h2;
-        if !(w2 >= T::ZERO) {
+        if w2.is_nan() || w2 < T::ZERO {
             return None;
         }
         let half = (w2 / a).sqrt();

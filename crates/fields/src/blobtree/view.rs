@@ -1,0 +1,293 @@
+//! Pruned tree views (paper §6.2, Fig. 11, Alg. 4).
+
+use super::encoding::{BlobtreeRef, NodeWord};
+use super::eval::{
+    corrupt, lipschitz_program, node_data, node_vec4s, operator_node, primitive_node,
+};
+use super::traversal::{SparseVisitor, sparse_traverse};
+use crate::FieldError;
+use boundtrace_ia_core::Real;
+use boundtrace_inclusion::{Field, FieldNum};
+
+/// The paper's `M_overlap`: the default maximal number of active
+/// primitives of a [`PrunedView`] (§7).
+pub const M_OVERLAP: usize = 128;
+/// Default capacity of `B_view` / `B_offset`: `2·M_overlap − 1` nodes.
+pub const VIEW_CAPACITY: usize = 2 * M_OVERLAP - 1;
+/// Default size of `D_cache` in floats: 3072 bytes (§7).
+pub const D_CACHE_FLOATS: usize = 768;
+/// Default evaluation stack of a pruned view: 8 entries (§7).
+pub const VIEW_STACK: usize = 8;
+
+/// `B_offset` flag: the offset is a 128-bit-unit offset into the tree's
+/// parameter array (the node did not fit in `D_cache`), not a float index
+/// into the cache.
+const GLOBAL: u32 = 1 << 31;
+
+/// A pruned blobtree view (paper §6.2, Fig. 11): the post-order program of
+/// the local field `f_𝒜` for a set of active primitives, in fixed-capacity
+/// arrays (no allocation):
+///
+/// * `B_view` (capacity `V`, default [`VIEW_CAPACITY`] `= 2·M_overlap − 1`):
+///   the node words of the active primitives and of the operators with two
+///   present operands, in post-order. Selectors are resolved while
+///   building and do not appear.
+/// * `B_offset` (capacity `V`): where each node's parameters are: a float
+///   index into `D_cache`, or (when the cache is full, as in the paper) the
+///   node's offset in the tree's parameter array.
+/// * `D_cache` (`D` floats, default [`D_CACHE_FLOATS`] = 3072 bytes): the
+///   parameters of the nodes, copied in view order.
+///
+/// Evaluation (Alg. 4, the [`Field`] impl) runs a bottom-up pass with a
+/// fixed stack of `S` entries (default [`VIEW_STACK`] = 8). A view whose
+/// program needs more stack, or more than `V` nodes, is **refused** by
+/// [`build`](Self::build) with [`FieldError::TooLarge`] — never truncated.
+///
+/// When the root is missing (no active primitive can influence the surface
+/// in the volume) the view evaluates to `+∞`.
+#[derive(Clone, Debug)]
+pub struct PrunedView<
+    'a,
+    const V: usize = VIEW_CAPACITY,
+    const D: usize = D_CACHE_FLOATS,
+    const S: usize = VIEW_STACK,
+> {
+    tree: BlobtreeRef<'a>,
+    index: [u32; V],
+    view: [u32; V],
+    offset: [u32; V],
+    cache: [f32; D],
+    len: u32,
+    cache_len: u32,
+    root_present: bool,
+    stack_need: u32,
+}
+
+/// A [`PrunedView`] with the paper's default capacities.
+pub type DefaultPrunedView<'a> = PrunedView<'a, VIEW_CAPACITY, D_CACHE_FLOATS, VIEW_STACK>;
+
+struct Recorder<'r, const V: usize> {
+    index: &'r mut [u32; V],
+    len: u32,
+}
+
+impl<const V: usize> Recorder<'_, V> {
+    #[inline]
+    fn push(&mut self, node: u32) -> Result<(), FieldError> {
+        match self.index.get_mut(self.len as usize) {
+            Some(slot) => {
+                *slot = node;
+                self.len += 1;
+                Ok(())
+            }
+            None => Err(FieldError::TooLarge {
+                what: "pruned view nodes",
+                count: V + 1,
+                max: V,
+            }),
+        }
+    }
+}
+
+impl<const V: usize> SparseVisitor for Recorder<'_, V> {
+    #[inline]
+    fn primitive(&mut self, node: u32) -> Result<(), FieldError> {
+        self.push(node)
+    }
+    #[inline]
+    fn operator(&mut self, node: u32) -> Result<(), FieldError> {
+        self.push(node)
+    }
+    #[inline]
+    fn kill(&mut self, emitted: u32) -> Result<(), FieldError> {
+        self.len = emitted.min(self.len);
+        Ok(())
+    }
+}
+
+impl<'a, const V: usize, const D: usize, const S: usize> PrunedView<'a, V, D, S> {
+    /// Builds the view of `tree` for the active primitives `active`
+    /// (strictly increasing post-order indices of leaves) by the sparse
+    /// traversal ([`sparse_traverse`]), then fills `D_cache` (§6.2: nodes
+    /// that do not fit keep their global offset).
+    ///
+    /// # Errors
+    /// [`FieldError::TooLarge`] when the view needs more than `V` nodes or
+    /// more than `S` evaluation stack entries (or the traversal stack
+    /// overflows); [`FieldError::Malformed`] for a bad `active` list.
+    pub fn build(tree: BlobtreeRef<'a>, active: &[u32]) -> Result<Self, FieldError> {
+        let mut index = [0u32; V];
+        let mut rec = Recorder::<V> {
+            index: &mut index,
+            len: 0,
+        };
+        let root_present = sparse_traverse(&tree, active, &mut rec)?;
+        let len = if root_present { rec.len } else { 0 };
+        let mut out = Self {
+            tree,
+            index,
+            view: [0; V],
+            offset: [0; V],
+            cache: [0.0; D],
+            len,
+            cache_len: 0,
+            root_present,
+            stack_need: 0,
+        };
+        // Node words, parameters, stack need.
+        let mut depth = 0u32;
+        let mut need = 0u32;
+        let mut i = 0usize;
+        while i < len as usize {
+            let node = out.index[i];
+            let w = tree.word(node).ok_or(FieldError::Malformed {
+                reason: "view node out of range",
+            })?;
+            out.view[i] = w.0;
+            let d = tree.node_params(node).ok_or(FieldError::Malformed {
+                reason: "view node parameters out of range",
+            })?;
+            let start = out.cache_len as usize;
+            match out.cache.get_mut(start..start + d.len()) {
+                Some(dst) => {
+                    dst.copy_from_slice(d);
+                    out.offset[i] = start as u32;
+                    out.cache_len += d.len() as u32;
+                }
+                None => {
+                    out.offset[i] = GLOBAL | tree.offset(node).unwrap_or(0);
+                }
+            }
+            if w.is_leaf() {
+                depth += 1;
+                need = need.max(depth);
+            } else {
+                depth = depth.saturating_sub(1);
+            }
+            i += 1;
+        }
+        if need as usize > S {
+            return Err(FieldError::TooLarge {
+                what: "pruned view evaluation stack entries",
+                count: need as usize,
+                max: S,
+            });
+        }
+        out.stack_need = need;
+        Ok(out)
+    }
+
+    /// Number of nodes in `B_view`.
+    #[inline]
+    pub fn len(&self) -> usize {
+        self.len as usize
+    }
+
+    /// Whether the view has no node (the root is missing: the field is
+    /// `+∞` in the volume).
+    #[inline]
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// Whether the root is present (some active primitive reaches it).
+    #[inline]
+    pub fn root_present(&self) -> bool {
+        self.root_present
+    }
+
+    /// The post-order indices (in the full tree) of the view's nodes.
+    #[inline]
+    pub fn node_indices(&self) -> &[u32] {
+        &self.index[..self.len as usize]
+    }
+
+    /// The view's node words (`B_view`).
+    #[inline]
+    pub fn node_words(&self) -> &[u32] {
+        &self.view[..self.len as usize]
+    }
+
+    /// Floats of `D_cache` in use.
+    #[inline]
+    pub fn cache_used(&self) -> usize {
+        self.cache_len as usize
+    }
+
+    /// Number of view nodes whose parameters are read from the tree (did
+    /// not fit in `D_cache`).
+    pub fn uncached_nodes(&self) -> usize {
+        self.offset[..self.len as usize]
+            .iter()
+            .filter(|&&o| o & GLOBAL != 0)
+            .count()
+    }
+
+    /// The evaluation stack depth the view needs (≤ `S`).
+    #[inline]
+    pub fn stack_need(&self) -> usize {
+        self.stack_need as usize
+    }
+
+    #[inline]
+    fn data(&self, i: usize) -> Option<(NodeWord, &[f32])> {
+        let w = NodeWord(*self.view.get(i)?);
+        let off = *self.offset.get(i)?;
+        let d = if off & GLOBAL != 0 {
+            node_data(self.tree.params(), w, off & !GLOBAL)?
+        } else {
+            let n = node_vec4s(w)? as usize * 4;
+            self.cache.get(off as usize..off as usize + n)?
+        };
+        Some((w, d))
+    }
+
+    /// A Lipschitz bound of the pruned field (as
+    /// [`BlobtreeRef::lipschitz_bound`], over the view's nodes; `0` for a
+    /// missing root).
+    pub fn lipschitz_bound<T: Real>(&self) -> Option<T> {
+        if self.len == 0 {
+            return Some(T::ZERO);
+        }
+        lipschitz_program::<T, S>(self.len as usize, |i| self.data(i))
+    }
+}
+
+/// The pruned field `f_𝒜` (Alg. 4), for every number type.
+impl<T: Real, const V: usize, const D: usize, const S: usize> Field<T> for PrunedView<'_, V, D, S> {
+    fn eval<N: FieldNum<T>>(&self, p: [N; 3]) -> N {
+        if self.len == 0 {
+            return N::constant(T::INFINITY);
+        }
+        let mut stack = [N::constant(T::ZERO); S];
+        let mut sp = 0usize;
+        let mut i = 0usize;
+        while i < self.len as usize {
+            let Some((w, d)) = self.data(i) else {
+                return corrupt();
+            };
+            if w.is_leaf() {
+                let v = primitive_node::<T, N>(w, Some(d), p);
+                match stack.get_mut(sp) {
+                    Some(slot) => *slot = v,
+                    None => return corrupt(),
+                }
+                sp += 1;
+            } else {
+                if sp < 2 {
+                    return corrupt();
+                }
+                let f1 = stack[sp - 1];
+                let f0 = stack[sp - 2];
+                sp -= 1;
+                stack[sp - 1] = operator_node::<T, N>(w, Some(d), f0, f1);
+            }
+            i += 1;
+        }
+        if sp == 1 { stack[0] } else { corrupt() }
+    }
+
+    fn lipschitz(&self) -> Option<T> {
+        self.lipschitz_bound()
+    }
+}
