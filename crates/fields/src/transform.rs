@@ -85,15 +85,16 @@ impl<T: Real> Rigid<T> {
     }
 
     /// Like [`new`](Self::new), but keeps a quaternion whose squared norm is
-    /// already within `8ε` of 1 bit-for-bit (so that parameters read back
-    /// from a float array reproduce the same transform).
+    /// within `2⁻²⁰` (a few `f32` ulps) of 1 bit-for-bit, so that parameters
+    /// read back from the `f32` array reproduce the same transform (the
+    /// matrix is orthonormal for any non-zero quaternion, see `from_unit`).
     pub(crate) fn new_keep_unit(rotation_xyzw: [T; 4], translation: [T; 3]) -> Option<Self> {
         let t = crate::error::finite3("translation", translation).ok()?;
         if !rotation_xyzw.iter().all(|x| x.is_finite()) {
             return None;
         }
         let n2 = dot4(rotation_xyzw, rotation_xyzw);
-        let q = if (n2 - T::ONE).abs() <= T::EPSILON * T::from_f64(8.0) {
+        let q = if (n2 - T::ONE).abs() <= T::from_f64(9.5367431640625e-7) {
             rotation_xyzw
         } else {
             Self::normalize_quat(rotation_xyzw).ok()?
