@@ -1,0 +1,397 @@
+//! Kernels, point blobs, density operators and an HRBF term: containment of
+//! every bound type, derivatives against finite differences, and the
+//! analytic extrema of `k'`, `k''` against dense sampling.
+//!
+//! Containment: each case draws a random scene (1–4 blobs with random
+//! kernels of every family, weights, scales, an iso-value; as a plain
+//! [`Blobs`] sum, a [`Union`] of two sums, or a [`Sum`] with a fixed fitted
+//! [`Hrbf`]), a random ray and a random interval `[t0, t0 + h]` (dyadic, so
+//! the 17 sample points `t0 + h·k/16` and their offsets are exact floats).
+//! The reference at a sample is the field evaluated with point intervals (a
+//! sound enclosure of the exact value); a violation is a bound that does not
+//! intersect it. Checked: `Interval` and `Affine` over the whole interval,
+//! `ForwardLinear`/`ForwardQuadratic` bottom-up, Taylor (both) and mixed, at
+//! every sample within their validity. 10 000 cases per float type
+//! (`PROPTEST_CASES` overrides).
+
+mod common;
+
+use std::sync::OnceLock;
+
+use boundtrace::fields::FieldError;
+use boundtrace::fields::blob::{Blobs, PointBlob};
+use boundtrace::fields::density::{Sum, Union};
+use boundtrace::fields::hrbf::{Hrbf, HrbfCenter};
+use boundtrace::fields::kernel::{Kernel, KernelKind};
+use boundtrace::ia_core::{Affine, Interval};
+use boundtrace::inclusion::{
+    BoundKind, Field, FieldNum, ForwardLinear, ForwardQuadratic, Ray, gradient, jet_at,
+    linear_bound, quadratic_bound,
+};
+use proptest::prelude::*;
+use proptest::test_runner::TestCaseError;
+
+use common::Flt;
+
+/// A kernel description: family tag, degree, scale.
+#[derive(Clone, Copy, Debug)]
+struct KDesc {
+    kind: u32,
+    n: u32,
+    sigma: f64,
+}
+
+fn kdesc() -> impl Strategy<Value = KDesc> {
+    (0u32..4, 2u32..9, 0.3f64..1.6).prop_map(|(kind, n, sigma)| KDesc {
+        kind,
+        // inverse kernels: degrees 2–3 (steep enough already)
+        n: if kind == 3 { 2 + n % 2 } else { n },
+        sigma,
+    })
+}
+
+fn make_kernel<T: Flt>(k: KDesc) -> Kernel<T> {
+    let s = T::from_f64(k.sigma);
+    match k.kind {
+        0 => Kernel::compact(k.n, s),
+        1 => Kernel::cauchy(k.n, s),
+        2 => Kernel::gaussian(s),
+        _ => Kernel::inverse(k.n, s),
+    }
+    .unwrap()
+}
+
+/// A blob description: center, weight, kernel.
+#[derive(Clone, Copy, Debug)]
+struct BDesc {
+    c: [f64; 3],
+    w: f64,
+    k: KDesc,
+}
+
+fn bdesc() -> impl Strategy<Value = BDesc> {
+    (
+        prop::array::uniform3(-1.0f64..1.0),
+        prop_oneof![4 => 0.2f64..1.5, 1 => -0.5f64..-0.1],
+        kdesc(),
+    )
+        .prop_map(|(c, w, k)| BDesc { c, w, k })
+}
+
+fn make_blobs<T: Flt>(iso: f64, bs: &[BDesc]) -> Blobs<T, Vec<PointBlob<T>>> {
+    let v = bs
+        .iter()
+        .map(|b| {
+            PointBlob::new(
+                b.c.map(T::from_f64),
+                T::from_f64(b.w),
+                make_kernel::<T>(b.k),
+            )
+            .unwrap()
+        })
+        .collect();
+    Blobs::new(T::from_f64(iso), v).unwrap()
+}
+
+/// A small HRBF fitted once (8 points of an ellipsoid), in `f64`.
+fn hrbf_parts() -> &'static (Vec<HrbfCenter<f64>>, [f64; 4]) {
+    static H: OnceLock<(Vec<HrbfCenter<f64>>, [f64; 4])> = OnceLock::new();
+    H.get_or_init(|| {
+        let mut p = Vec::new();
+        let mut q = Vec::new();
+        for i in 0..8 {
+            let th = i as f64 * 0.8;
+            let z = -0.9 + 0.25 * i as f64;
+            let r = (1.0 - z * z).sqrt();
+            let d = [r * th.cos(), r * th.sin(), z];
+            p.push([0.8 * d[0], 0.5 * d[1], 0.6 * d[2]]);
+            q.push([d[0] / 0.8, d[1] / 0.5, d[2] / 0.6]);
+        }
+        let h = Hrbf::<f64, _>::fit(&p, &q).unwrap();
+        (h.centers().to_vec(), h.poly())
+    })
+}
+
+fn make_hrbf<T: Flt>() -> Hrbf<T, Vec<HrbfCenter<T>>> {
+    let (c, poly) = hrbf_parts();
+    let c = c
+        .iter()
+        .map(|c| HrbfCenter {
+            center: c.center.map(T::from_f64),
+            alpha: T::from_f64(c.alpha),
+            beta: c.beta.map(T::from_f64),
+        })
+        .collect();
+    Hrbf::from_parts(c, poly.map(T::from_f64)).unwrap()
+}
+
+#[derive(Clone, Debug)]
+struct Case {
+    variant: u32,
+    iso: f64,
+    a: Vec<BDesc>,
+    b: Vec<BDesc>,
+    origin: [f64; 3],
+    dir: [f64; 3],
+    /// `t0 = t0_k / 1024`, `h = h_k / 1024`: dyadic, exact samples.
+    t0_k: i32,
+    h_k: i32,
+}
+
+fn case() -> impl Strategy<Value = Case> {
+    (
+        0u32..4,
+        0.1f64..1.0,
+        prop::collection::vec(bdesc(), 1..4),
+        prop::collection::vec(bdesc(), 1..3),
+        prop::array::uniform3(-2.5f64..2.5),
+        prop::array::uniform3(-1.0f64..1.0),
+        -1024i32..4096,
+        prop_oneof![1i32..64, 64i32..2048],
+    )
+        .prop_map(|(variant, iso, a, b, origin, dir, t0_k, h_k)| Case {
+            variant,
+            iso,
+            a,
+            b,
+            origin,
+            dir,
+            t0_k,
+            h_k,
+        })
+}
+
+/// Checks every bound type of `f` on the case's ray and interval.
+fn check_field<T: Flt, F: Field<T>>(f: &F, c: &Case, what: &str) -> Result<(), TestCaseError> {
+    let ray = Ray::new(c.origin.map(T::from_f64), c.dir.map(T::from_f64));
+    let scale = T::from_f64(1.0 / 1024.0);
+    let t0 = T::from_f64(f64::from(c.t0_k)) * scale;
+    let h = T::from_f64(f64::from(c.h_k)) * scale;
+    let t1 = t0 + h;
+    let iv: Interval<T> = f.eval(ray.at(t0, t1));
+    let af: Affine<T, 4> = f.eval(ray.at(t0, t1));
+    let afr = af.enclosure();
+    let mut lin: Vec<(&str, ForwardLinear<T>)> = Vec::new();
+    let mut quad: Vec<(&str, ForwardQuadratic<T>)> = Vec::new();
+    for (name, kind) in [
+        ("bottom-up", BoundKind::BottomUp),
+        ("taylor", BoundKind::Taylor),
+        ("mixed", BoundKind::Mixed),
+    ] {
+        if let Some(b) = linear_bound(f, &ray, t0, t1, kind) {
+            lin.push((name, b));
+        }
+        if let Some(b) = quadratic_bound(f, &ray, t0, t1, kind) {
+            quad.push((name, b));
+        }
+    }
+    for k in 0..=16 {
+        let tau = T::from_f64(f64::from(c.h_k) * f64::from(k) / 16.0) * scale;
+        let t = t0 + tau; // exact: dyadic with few bits
+        let r: Interval<T> = f.eval(ray.at(t, t));
+        if r.is_empty() {
+            continue; // undefined at t (inverse kernel at its center)
+        }
+        let meets = |b: Interval<T>| !b.intersection(r).is_empty();
+        prop_assert!(meets(iv), "{what}: Interval {iv:?} misses {r:?} at t={t}");
+        prop_assert!(meets(afr), "{what}: Affine {afr:?} misses {r:?} at t={t}");
+        for (name, b) in &lin {
+            if b.is_valid() && tau <= b.validity() {
+                let v = b.bounds_at(tau);
+                prop_assert!(
+                    meets(v),
+                    "{what}: linear {name} {v:?} misses {r:?} at t0={t0} τ={tau} ({b:?})"
+                );
+            }
+        }
+        for (name, b) in &quad {
+            if b.is_valid() && tau <= b.validity() {
+                let v = b.bounds_at(tau);
+                prop_assert!(
+                    meets(v),
+                    "{what}: quadratic {name} {v:?} misses {r:?} at t0={t0} τ={tau} ({b:?})"
+                );
+            }
+        }
+    }
+    Ok(())
+}
+
+fn check_case<T: Flt>(c: &Case) -> Result<(), TestCaseError> {
+    let a = make_blobs::<T>(c.iso, &c.a);
+    match c.variant {
+        0 => {
+            // one blob alone: every kernel on its own
+            let one = make_blobs::<T>(c.iso, &c.a[..1]);
+            check_field(&one, c, "single blob")
+        }
+        1 => check_field(&a, c, "blob sum"),
+        2 => {
+            let u = Union {
+                a,
+                b: make_blobs::<T>(c.iso, &c.b),
+            };
+            check_field(&u, c, "union (max of densities)")
+        }
+        _ => {
+            let s = Sum {
+                iso: T::ZERO,
+                a,
+                b: make_hrbf::<T>(),
+            };
+            check_field(&s, c, "blob sum + HRBF")
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(common::config())]
+
+    #[test]
+    fn containment_f64(c in case()) {
+        check_case::<f64>(&c)?;
+    }
+
+    #[test]
+    fn containment_f32(c in case()) {
+        check_case::<f32>(&c)?;
+    }
+
+    /// Kernel derivatives: the analytic `k'`, `k''` against central
+    /// differences of `k` and `k'`, and the jet of `K(u)` against `K'`, `K''`.
+    #[test]
+    fn kernel_derivatives_match_finite_differences(k in kdesc(), s in 0.02f64..2.5) {
+        let kern = make_kernel::<f64>(k);
+        let d = s * k.sigma;
+        let near_edge = k.kind == 0 && (d - k.sigma).abs() < 0.01 * k.sigma;
+        prop_assume!(!near_edge);
+        let h = 1e-5 * k.sigma;
+        let fd1 = (kern.value(d + h) - kern.value(d - h)) / (2.0 * h);
+        let fd2 = (kern.derivative(d + h) - kern.derivative(d - h)) / (2.0 * h);
+        let (a1, a2) = (kern.derivative(d), kern.second_derivative(d));
+        let tol = |a: f64| 1e-5 * (1.0 + a.abs()) * (1.0 + kern.value(d).abs());
+        prop_assert!((a1 - fd1).abs() <= tol(a1), "k' {a1} vs {fd1}");
+        prop_assert!((a2 - fd2).abs() <= 10.0 * tol(a2), "k'' {a2} vs {fd2}");
+        let u = (d / k.sigma).powi(2);
+        let j = kern.eval_u(boundtrace::inclusion::Jet::variable(u));
+        let (du, d2u) = (kern.d_u(u), kern.d2_u(u));
+        prop_assert!((j.d1 - du).abs() <= 1e-9 * (1.0 + du.abs()), "K' {} vs {du}", j.d1);
+        prop_assert!((j.d2 - d2u).abs() <= 1e-9 * (1.0 + d2u.abs()), "K'' {} vs {d2u}", j.d2);
+    }
+
+    /// Blob-sum gradients (three jets) and second derivatives along rays
+    /// (jets) against central differences of the field.
+    #[test]
+    fn blob_gradients_match_finite_differences(
+        bs in prop::collection::vec(bdesc(), 1..4),
+        p in prop::array::uniform3(-1.5f64..1.5),
+        v in prop::array::uniform3(-1.0f64..1.0),
+    ) {
+        let f = make_blobs::<f64>(0.5, &bs);
+        // stay away from compact support boundaries and inverse centers
+        for b in &bs {
+            let d = ((p[0] - b.c[0]).powi(2) + (p[1] - b.c[1]).powi(2) + (p[2] - b.c[2]).powi(2)).sqrt();
+            prop_assume!((d - b.k.sigma).abs() > 1e-3 && d > 0.05);
+        }
+        let g = gradient(&f, p);
+        let h = 1e-6;
+        for k in 0..3 {
+            let (mut a, mut b) = (p, p);
+            a[k] += h;
+            b[k] -= h;
+            let fd = (f.eval(a) - f.eval(b)) / (2.0 * h);
+            prop_assert!((g[k] - fd).abs() <= 1e-5 * (1.0 + fd.abs()), "∂{k}: {} vs {fd}", g[k]);
+        }
+        let ray = Ray::new(p, v);
+        let j = jet_at(&f, &ray, 0.0);
+        let hh = 1e-4;
+        let fp = f.eval(ray.at::<f64>(hh, hh));
+        let fm = f.eval(ray.at::<f64>(-hh, -hh));
+        let fd2 = (fp - 2.0 * j.v + fm) / (hh * hh);
+        prop_assert!((j.d2 - fd2).abs() <= 1e-3 * (1.0 + fd2.abs()), "f'' {} vs {fd2}", j.d2);
+    }
+
+    /// `derivative_range`, `second_derivative_range` contain densely sampled
+    /// values and are not much wider than the sampled spread.
+    #[test]
+    fn kernel_extrema_match_dense_sampling(k in kdesc(), a in 0.0f64..2.0, w in 0.001f64..2.0) {
+        let kern = make_kernel::<f64>(k);
+        let (d0, d1) = (a * k.sigma, (a + w) * k.sigma);
+        prop_assume!(!(k.kind == 3 && d0 < 1e-3));
+        let r1 = kern.derivative_range(d0, d1);
+        let r2 = kern.second_derivative_range(d0, d1);
+        let (mut lo1, mut hi1, mut lo2, mut hi2) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+        for i in 0..=400 {
+            let d = d0 + (d1 - d0) * f64::from(i) / 400.0;
+            let (x, y) = (kern.derivative(d), kern.second_derivative(d));
+            // (the float samples carry their own rounding error)
+            let near = |r: Interval<f64>, x: f64| {
+                r.lo() <= x + 1e-12 * (1.0 + x.abs()) && x - 1e-12 * (1.0 + x.abs()) <= r.hi()
+            };
+            prop_assert!(near(r1, x), "k'({d}) = {x} not in {r1:?}");
+            lo1 = lo1.min(x);
+            hi1 = hi1.max(x);
+            if y.is_finite() {
+                prop_assert!(near(r2, y), "k''({d}) = {y} not in {r2:?}");
+                lo2 = lo2.min(y);
+                hi2 = hi2.max(y);
+            }
+        }
+        // Tightness: the sampling misses at most the peak between samples.
+        let spread = |lo: f64, hi: f64| 0.01 * (hi - lo) + 1e-9 * (1.0 + hi.abs().max(lo.abs()));
+        prop_assert!(r1.lo() >= lo1 - spread(lo1, hi1) && r1.hi() <= hi1 + spread(lo1, hi1),
+            "k' range {r1:?} vs sampled [{lo1}, {hi1}]");
+        let smooth = !(k.kind == 0 && (k.n <= 4 || d1 >= k.sigma));
+        if smooth {
+            prop_assert!(r2.lo() >= lo2 - spread(lo2, hi2) && r2.hi() <= hi2 + spread(lo2, hi2),
+                "k'' range {r2:?} vs sampled [{lo2}, {hi2}]");
+        }
+    }
+}
+
+#[test]
+fn bad_parameters_are_rejected() {
+    let bad = |r: Result<Kernel<f64>, FieldError>| {
+        assert!(
+            matches!(r, Err(FieldError::InvalidParameter { .. })),
+            "{r:?}"
+        );
+    };
+    bad(Kernel::compact(6, 0.0));
+    bad(Kernel::compact(6, -1.0));
+    bad(Kernel::compact(6, f64::NAN));
+    bad(Kernel::compact(1, 1.0));
+    bad(Kernel::cauchy(0, 1.0));
+    bad(Kernel::inverse(1, 1.0));
+    bad(Kernel::gaussian(f64::INFINITY));
+    bad(Kernel::gaussian_scaled(-1.0, 1.0));
+    let k = Kernel::gaussian(1.0).unwrap();
+    assert!(PointBlob::new([0.0, f64::NAN, 0.0], 1.0, k).is_err());
+    assert!(PointBlob::new([0.0; 3], f64::NAN, k).is_err());
+    assert!(Blobs::new(f64::INFINITY, [PointBlob::new([0.0; 3], 1.0, k).unwrap()]).is_err());
+    assert_eq!(KernelKind::from_u32(2), Some(KernelKind::Gaussian));
+    assert_eq!(KernelKind::from_u32(9), None);
+}
+
+/// The test can fail: a wrong curvature (the blob Taylor bound built with
+/// `f'' = 0`) is caught on a curved stretch of a Gaussian blob.
+#[test]
+fn containment_check_detects_a_wrong_bound() {
+    let f = Blobs::new(
+        0.5,
+        [PointBlob::new([0.0; 3], 1.0, Kernel::gaussian(1.0).unwrap()).unwrap()],
+    )
+    .unwrap();
+    let ray = Ray::new([-2.0, 0.0, 0.0], [1.0, 0.0, 0.0]);
+    let good = f.taylor_quadratic(&ray, 1.5, 2.5).unwrap();
+    let j = jet_at(&f, &ray, 1.5);
+    let wrong = ForwardQuadratic::taylor(
+        Interval::point(j.v),
+        Interval::point(j.d1),
+        Interval::point(0.0),
+        1.0,
+    );
+    let r: Interval<f64> = f.eval(ray.at(2.5, 2.5));
+    assert!(!good.bounds_at(1.0).intersection(r).is_empty());
+    assert!(wrong.bounds_at(1.0).intersection(r).is_empty());
+}
