@@ -254,7 +254,8 @@ impl<T: Real> Operator<T> {
     fn compact(kind: OperatorKind, beta: T, r_o: T) -> Result<Self, FieldError> {
         let beta = crate::error::positive("beta", beta)?;
         let r_o = crate::error::positive("r_o", r_o)?;
-        if !(T::from_f64(6.0) * r_o - beta > T::ZERO) {
+        let denom = T::from_f64(6.0) * r_o - beta;
+        if denom.is_nan() || denom <= T::ZERO {
             return Err(invalid("r_o", "6·r_o − β must be > 0 (eq. 18)"));
         }
         if r_o < Self::min_r_o(kind, beta) {
@@ -453,8 +454,8 @@ fn blend_const<T: Real, N: FieldNum<T>>(s: N, beta: T) -> N {
 fn blend_var<T: Real, N: FieldNum<T>>(s: N, b: N) -> N {
     let zero = N::constant(T::ZERO);
     let e = b.enclosure();
-    // `!(hi > 0)` also catches NaN: filtered to d = 0.
-    if !(e.hi() > T::ZERO) {
+    // NaN is filtered to d = 0 (paper §4, eq. 18).
+    if e.hi().is_nan() || e.hi() <= T::ZERO {
         return zero;
     }
     let sixth = T::ONE / T::from_f64(6.0);
@@ -494,7 +495,7 @@ fn unbounded_fallback<T: Real, N: FieldNum<T>>(csg: N, union: bool, beta: T, r_o
     let six = T::from_f64(6.0);
     if union {
         let lo = csg.enclosure().lo();
-        if !(lo > T::NEG_INFINITY) {
+        if lo.is_nan() || lo == T::NEG_INFINITY {
             return csg;
         }
         let k = six / (six * r_o - beta);

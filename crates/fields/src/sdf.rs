@@ -6,7 +6,7 @@
 //! so `|f(p)| ≤ dist(p, {f = 0})`: sphere tracing steps of `|f|` are safe
 //! (paper §4: "well-behaved A-SDF primitives (Lipschitz bound ≤ 1)").
 //! Each primitive is written once, generic over
-//! [`FieldNum`](boundtrace_inclusion::FieldNum), and evaluated in world space
+//! [`FieldNum`], and evaluated in world space
 //! through its [`Rigid`] transform: `f(p) = f_local(Rᵀ(p − t))` ("space
 //! deformations are moved to leaf nodes", §5).
 //!
@@ -25,7 +25,7 @@
 //! | [`Blob`](PrimitiveKind::Blob) | `R √(1 − ρ^{1/3}) − d₀`, `ρ = (1 − |p|²/R²)₊³` | yes for an isolated blob (clamped at `R − d₀`) |
 //!
 //! Branches (the box corner formula) are decided with
-//! [`FieldNum::enclosure`](boundtrace_inclusion::FieldNum::enclosure); when a
+//! [`FieldNum::enclosure`]; when a
 //! bound type cannot decide, the general (branch-free) formula is used, so
 //! every bound stays sound. Points where a Euclidean norm vanishes (the center
 //! of a sphere, the axis of a cylinder, …) have a kink: the value is right,
@@ -654,7 +654,7 @@ fn segment_frame<T: Real>(a: [T; 3], b: [T; 3]) -> Result<(Rigid<T>, T), FieldEr
     let b = crate::error::finite3("b", b)?;
     let d = sub3(b, a);
     let len = norm3(d);
-    if !(len > T::ZERO) || !len.is_finite() {
+    if !len.is_finite() || len <= T::ZERO {
         return Err(invalid("b", "zero-length (or overflowing) segment"));
     }
     let c = [
@@ -715,9 +715,12 @@ fn box2_sdf<T: Real, N: FieldNum<T>>(a: N, b: N) -> N {
 
 /// The gyroid sheet (see [`Primitive::gyroid`]).
 fn gyroid<T: Real, N: FieldNum<T>>(q: [N; 3], period: T, thickness: T) -> N {
-    // Placeholder until FieldNum gains sin/cos: a slab (1-Lipschitz).
-    let _ = period;
-    q[2].abs() - thickness * T::HALF
+    let k = T::TWO * T::PI / period;
+    let (x, y, z) = (q[0] * k, q[1] * k, q[2] * k);
+    let (sx, sy, sz) = (x.sin(), y.sin(), z.sin());
+    let (cx, cy, cz) = (x.cos(), y.cos(), z.cos());
+    let g = sx * cy + sy * cz + sz * cx;
+    g.abs() / (T::from_f64(3.0).sqrt() * k) - thickness * T::HALF
 }
 
 /// Axis-aligned world box of the local box `|q|ᵢ ≤ halfᵢ`.

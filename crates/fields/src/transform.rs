@@ -112,7 +112,7 @@ impl<T: Real> Rigid<T> {
         let c = crate::error::finite3("center", center)?;
         let a = crate::error::finite3("axis", axis)?;
         let n = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
-        if !(n > T::ZERO) || !n.is_finite() {
+        if !n.is_finite() || n <= T::ZERO {
             return Err(FieldError::InvalidParameter {
                 name: "axis",
                 reason: "must be a non-zero finite vector",
@@ -138,7 +138,7 @@ impl<T: Real> Rigid<T> {
             });
         }
         let n = dot4(q, q).sqrt();
-        if !(n > T::ZERO) || !n.is_finite() {
+        if !n.is_finite() || n <= T::ZERO {
             return Err(FieldError::InvalidParameter {
                 name: "rotation",
                 reason: "quaternion must be non-zero",
