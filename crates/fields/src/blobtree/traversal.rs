@@ -26,6 +26,11 @@ pub trait SparseVisitor {
     /// operators it lands on); for tests and statistics. Default: nothing.
     #[inline]
     fn visit(&mut self, _node: u32) {}
+    /// The traversal jumps from `from` to its (clamped) fast ancestor
+    /// `to`; the nodes strictly between them on the path are pass-through
+    /// selectors that are skipped (for tests). Default: nothing.
+    #[inline]
+    fn jump(&mut self, _from: u32, _to: u32) {}
     /// An active primitive: push its value.
     fn primitive(&mut self, node: u32) -> Result<(), FieldError>;
     /// An operator with two present operands: pop `f₁`, pop `f₀`, push
@@ -153,6 +158,7 @@ pub fn sparse_traverse<V: SparseVisitor>(
                 if fast <= cur {
                     return Err(malformed("ancestor does not increase"));
                 }
+                visitor.jump(cur, fast);
                 cur = fast;
                 visitor.visit(cur);
                 let tw = tree.word(cur).ok_or(malformed("index out of range"))?;
@@ -177,6 +183,7 @@ pub fn sparse_traverse<V: SparseVisitor>(
                 if t <= cur {
                     return Err(malformed("ancestor does not increase"));
                 }
+                visitor.jump(cur, t);
                 cur = t;
                 visitor.visit(cur);
                 let tw = tree.word(cur).ok_or(malformed("index out of range"))?;
@@ -193,6 +200,9 @@ pub fn sparse_traverse<V: SparseVisitor>(
                 if merge {
                     sp -= 1;
                     let y = stack[sp];
+                    // The pending left operand's chain up to `t` was
+                    // skipped (pass-throughs).
+                    visitor.jump(y.node, cur);
                     match (y.present, present) {
                         (true, true) => {
                             visitor.operator(cur)?;

@@ -1,0 +1,686 @@
+//! Flat blobtrees: local equivalence of pruned fields (paper eq. 4), bound
+//! containment for every number type, encoding round trips and refusals,
+//! and the sparse traversal against a recursive reference.
+//!
+//! Each property runs 10 000 cases (`PROPTEST_CASES` overrides). Random
+//! trees mix CSG, smooth and compact operators of all three classes over
+//! random rigidly transformed primitives.
+
+use std::sync::OnceLock;
+
+use boundtrace::fields::FieldError;
+use boundtrace::fields::blobtree::{
+    BlobtreeRef, FlatBlobtree, MAX_NODES, NO_ANCESTOR, Node, NodeWord, PrunedView, SparseVisitor,
+    passes, sparse_traverse,
+};
+use boundtrace::fields::bounding::Aabb;
+use boundtrace::fields::operator::Operator;
+use boundtrace::fields::sdf::Primitive;
+use boundtrace::fields::transform::Rigid;
+use boundtrace::ia_core::{Affine, Interval, Real};
+use boundtrace::inclusion::{Field, ForwardLinear, ForwardQuadratic, Ray};
+use proptest::prelude::*;
+use proptest::test_runner::{Config, contextualize_config};
+
+fn config() -> Config {
+    contextualize_config(Config {
+        cases: 10_000,
+        failure_persistence: None,
+        ..Config::default()
+    })
+}
+
+/// SplitMix64: the random trees are derived from one proptest seed.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+    /// Uniform in `[0, 1)`.
+    fn unit(&mut self) -> f64 {
+        (self.next() >> 11) as f64 / (1u64 << 53) as f64
+    }
+    fn range(&mut self, a: f64, b: f64) -> f64 {
+        a + (b - a) * self.unit()
+    }
+    fn below(&mut self, n: usize) -> usize {
+        (self.next() % n as u64) as usize
+    }
+    /// Rounded to f32 so that f32 round trips are exact.
+    fn f(&mut self, a: f64, b: f64) -> f64 {
+        self.range(a, b) as f32 as f64
+    }
+    fn point(&mut self, half: f64) -> [f64; 3] {
+        [
+            self.f(-half, half),
+            self.f(-half, half),
+            self.f(-half, half),
+        ]
+    }
+}
+
+fn t<T: Real>(x: f64) -> T {
+    T::from_f64(x)
+}
+
+fn t3<T: Real>(p: [f64; 3]) -> [T; 3] {
+    [t(p[0]), t(p[1]), t(p[2])]
+}
+
+/// A random primitive of any bounded kind (planes with probability
+/// `plane_p`) near a random point of the cube `[−half, half]³`.
+fn primitive<T: Real>(rng: &mut Rng, half: f64, plane_p: f64) -> Primitive<T> {
+    let c = rng.point(half);
+    let s = |rng: &mut Rng| rng.f(0.3, 1.2);
+    if rng.unit() < plane_p {
+        let n = rng.point(1.0);
+        let n = if n.iter().all(|x| x.abs() < 0.1) {
+            [0.0, 0.0, 1.0]
+        } else {
+            n
+        };
+        return Primitive::plane(t3(c), t3(n)).unwrap();
+    }
+    let prim = match rng.below(9) {
+        0 => Primitive::sphere(t3(c), t(s(rng))),
+        1 => Primitive::cuboid(t3(c), [t(s(rng)), t(s(rng)), t(s(rng))]),
+        2 => {
+            let h = [s(rng), s(rng), s(rng)];
+            let r = h[0].min(h[1]).min(h[2]) * 0.5;
+            Primitive::rounded_box(t3(c), t3(h), t(r as f32 as f64))
+        }
+        3 => {
+            let d = rng.point(1.0);
+            let b = [c[0] + d[0], c[1] + d[1], c[2] + d[2] + 0.5];
+            Primitive::capsule(t3(c), t3(b), t(s(rng) * 0.5))
+        }
+        4 => {
+            let d = rng.point(1.0);
+            let b = [c[0] + d[0], c[1] + d[1] + 0.5, c[2] + d[2]];
+            Primitive::cylinder(t3(c), t3(b), t(s(rng) * 0.5))
+        }
+        5 => {
+            let axis = [rng.f(-1.0, 1.0), rng.f(-1.0, 1.0), 1.0];
+            let big = s(rng);
+            Primitive::torus(t3(c), t3(axis), t(big), t(big * 0.3))
+        }
+        6 => {
+            let d = rng.point(1.0);
+            let b = [c[0] + d[0] + 0.5, c[1] + d[1], c[2] + d[2]];
+            Primitive::cone(t3(c), t(s(rng) * 0.6), t3(b), t(s(rng) * 0.3))
+        }
+        7 => Primitive::ellipsoid(t3(c), [t(s(rng)), t(s(rng)), t(s(rng))]),
+        _ => Primitive::blob(t3(c), t(s(rng) * 1.5), t(0.5)),
+    }
+    .unwrap();
+    if rng.unit() < 0.5 {
+        let q = [rng.f(-1.0, 1.0), rng.f(-1.0, 1.0), rng.f(-1.0, 1.0), 1.0];
+        // Rotate about the primitive's own center.
+        let rot = Rigid::new([t(q[0]), t(q[1]), t(q[2]), t(q[3])], [T::ZERO; 3]).unwrap();
+        let back = Rigid::translation(t3(c)).unwrap();
+        let to = Rigid::translation(t3([-c[0], -c[1], -c[2]])).unwrap();
+        return prim
+            .with_transform(to)
+            .with_transform(rot)
+            .with_transform(back);
+    }
+    prim
+}
+
+/// A random operator: CSG, smooth (rarely: their ROI is unbounded) and
+/// compact, of every class.
+fn operator<T: Real>(rng: &mut Rng, smooth_p: f64) -> Operator<T> {
+    let beta = rng.f(0.1, 0.6);
+    let r_o = (beta * rng.range(1.2, 2.0)) as f32 as f64;
+    let class = rng.below(10);
+    if rng.unit() < smooth_p {
+        return match class {
+            0..=5 => Operator::smooth_union(t(beta)),
+            6..=7 => Operator::smooth_intersection(t(beta)),
+            _ => Operator::smooth_difference(t(beta)),
+        }
+        .unwrap();
+    }
+    let compact = rng.unit() < 0.6;
+    match (class, compact) {
+        (0..=5, false) => Ok(Operator::union()),
+        (6..=7, false) => Ok(Operator::intersection()),
+        (_, false) => Ok(Operator::difference()),
+        (0..=5, true) => Operator::compact_union(t(beta), t(r_o)),
+        (6..=7, true) => Operator::compact_intersection(t(beta), t(r_o)),
+        (_, true) => Operator::compact_difference(t(beta), t(r_o)),
+    }
+    .unwrap()
+}
+
+/// A random tree over `n` primitives: adjacent items of a list are merged
+/// at random positions (a random binary tree shape, shallow enough for the
+/// evaluation stack).
+fn random_tree<T: Real>(
+    rng: &mut Rng,
+    n: usize,
+    half: f64,
+    plane_p: f64,
+    smooth_p: f64,
+) -> Node<T> {
+    let mut items: Vec<Node<T>> = (0..n)
+        .map(|_| Node::primitive(primitive(rng, half, plane_p)))
+        .collect();
+    while items.len() > 1 {
+        let i = rng.below(items.len() - 1);
+        let r = items.remove(i + 1);
+        let l = items.remove(i);
+        items.insert(i, Node::op(operator(rng, smooth_p), l, r));
+    }
+    items.pop().unwrap()
+}
+
+// ---------------------------------------------------------------------
+// Reference (recursive) pruning.
+
+/// Children of every operator, from the true parents.
+fn children(flat: &FlatBlobtree) -> Vec<Option<(u32, u32)>> {
+    let parent = flat.parents();
+    let mut ch: Vec<(Option<u32>, Option<u32>)> = vec![(None, None); flat.len()];
+    for (c, &p) in parent.iter().enumerate() {
+        if p != NO_ANCESTOR {
+            if flat.word(c as u32).unwrap().is_left() {
+                ch[p as usize].0 = Some(c as u32);
+            } else {
+                ch[p as usize].1 = Some(c as u32);
+            }
+        }
+    }
+    ch.into_iter().map(|(l, r)| l.zip(r)).collect()
+}
+
+/// Recursive reference: (present, post-order program, active nodes).
+fn reference(
+    flat: &FlatBlobtree,
+    ch: &[Option<(u32, u32)>],
+    is_active: &[bool],
+    node: u32,
+    active_nodes: &mut Vec<u32>,
+) -> (bool, Vec<u32>, bool) {
+    match ch[node as usize] {
+        None => {
+            let a = is_active[node as usize];
+            if a {
+                active_nodes.push(node);
+                (true, vec![node], true)
+            } else {
+                (false, vec![], false)
+            }
+        }
+        Some((l, r)) => {
+            let (pl, mut gl, al) = reference(flat, ch, is_active, l, active_nodes);
+            let (pr, gr, ar) = reference(flat, ch, is_active, r, active_nodes);
+            let any = al || ar;
+            if any {
+                active_nodes.push(node);
+            }
+            let class = flat.word(node).unwrap().class().unwrap();
+            let out = match (pl, pr) {
+                (true, true) => {
+                    gl.extend(gr);
+                    gl.push(node);
+                    (true, gl)
+                }
+                (true, false) if passes(class, true) => (true, gl),
+                (false, true) if passes(class, false) => (true, gr),
+                _ => (false, vec![]),
+            };
+            (out.0, out.1, any)
+        }
+    }
+}
+
+#[derive(Default)]
+struct Trace {
+    visited: Vec<u32>,
+    jumps: Vec<(u32, u32)>,
+    program: Vec<u32>,
+}
+
+impl SparseVisitor for Trace {
+    fn visit(&mut self, node: u32) {
+        self.visited.push(node);
+    }
+    fn jump(&mut self, from: u32, to: u32) {
+        self.jumps.push((from, to));
+    }
+    fn primitive(&mut self, node: u32) -> Result<(), FieldError> {
+        self.program.push(node);
+        Ok(())
+    }
+    fn operator(&mut self, node: u32) -> Result<(), FieldError> {
+        self.program.push(node);
+        Ok(())
+    }
+    fn kill(&mut self, emitted: u32) -> Result<(), FieldError> {
+        self.program.truncate(emitted as usize);
+        Ok(())
+    }
+}
+
+/// Checks the sparse traversal of `flat` for `active` against the
+/// recursive reference; returns an error message on mismatch.
+fn check_traversal(flat: &FlatBlobtree, active: &[u32]) -> Result<(), String> {
+    let ch = children(flat);
+    let parent = flat.parents();
+    let mut is_active = vec![false; flat.len()];
+    for &a in active {
+        is_active[a as usize] = true;
+    }
+    let mut active_nodes = vec![];
+    let root = flat.len() as u32 - 1;
+    let (present, program, _) = reference(flat, &ch, &is_active, root, &mut active_nodes);
+    let mut trace = Trace::default();
+    let got = sparse_traverse(&flat.as_ref(), active, &mut trace).map_err(|e| e.to_string())?;
+    if got != present || trace.program != program {
+        return Err(format!(
+            "pruned program differs: got ({got}, {:?}), want ({present}, {program:?})",
+            trace.program
+        ));
+    }
+    // Visited nodes plus the nodes skipped inside jumps are exactly the
+    // active nodes, each once.
+    let mut seen = trace.visited.clone();
+    for &(from, to) in &trace.jumps {
+        let mut x = parent[from as usize];
+        while x != to {
+            if x == NO_ANCESTOR || x > to {
+                return Err(format!("jump {from} -> {to} is not along the ancestors"));
+            }
+            seen.push(x);
+            x = parent[x as usize];
+        }
+    }
+    let n_seen = seen.len();
+    seen.sort_unstable();
+    seen.dedup();
+    if seen.len() != n_seen {
+        return Err("a node was visited twice".into());
+    }
+    active_nodes.sort_unstable();
+    if seen != active_nodes {
+        return Err(format!("visited {seen:?}, active nodes {active_nodes:?}"));
+    }
+    Ok(())
+}
+
+// ---------------------------------------------------------------------
+// Shared random scenes.
+
+struct Scene {
+    flat: FlatBlobtree,
+    abvs: Vec<boundtrace::fields::blobtree::Abv<f64>>,
+    half: f64,
+}
+
+/// A few large trees (≥ 200 nodes), built once: mixed sharp, smooth and
+/// compact operators.
+fn scenes() -> &'static [Scene] {
+    static SCENES: OnceLock<Vec<Scene>> = OnceLock::new();
+    SCENES.get_or_init(|| {
+        let mut out = vec![];
+        for (seed, smooth_p, plane_p) in [
+            (1u64, 0.0, 0.0),
+            (2, 0.03, 0.01),
+            (3, 0.0, 0.02),
+            (4, 0.05, 0.0),
+        ] {
+            let mut rng = Rng(seed);
+            let half = 6.0;
+            let tree = random_tree::<f64>(&mut rng, 120, half, plane_p, smooth_p);
+            let flat = FlatBlobtree::from_node(&tree).unwrap();
+            assert!(flat.len() >= 200);
+            let abvs = flat.abvs::<f64>();
+            out.push(Scene { flat, abvs, half });
+        }
+        out
+    })
+}
+
+type BigView<'a> = PrunedView<'a, 511, 4096, 32>;
+
+proptest! {
+    #![proptest_config(config())]
+
+    /// Paper eq. 4: for random query boxes, the pruned field built from the
+    /// primitives whose ABV meets the box has the sign of the full field at
+    /// random points of the box; the direct sparse evaluation equals the
+    /// pruned view's value.
+    #[test]
+    fn local_equivalence(seed in any::<u64>()) {
+        let mut rng = Rng(seed);
+        let scenes = scenes();
+        let sc = &scenes[rng.below(scenes.len())];
+        let c = rng.point(sc.half + 1.0);
+        let e = [rng.range(0.05, 2.5), rng.range(0.05, 2.5), rng.range(0.05, 2.5)];
+        let b = Aabb::new([c[0] - e[0], c[1] - e[1], c[2] - e[2]], [c[0] + e[0], c[1] + e[1], c[2] + e[2]]);
+        let active = FlatBlobtree::active_in_box(&sc.abvs, &b);
+        let tree = sc.flat.as_ref();
+        let view = BigView::build(tree, &active).unwrap();
+        for _ in 0..4 {
+            let p = [rng.range(b.min[0], b.max[0]), rng.range(b.min[1], b.max[1]), rng.range(b.min[2], b.max[2])];
+            let full: f64 = tree.eval(p);
+            let pruned: f64 = view.eval(p);
+            let direct: f64 = tree.eval_sparse::<f64, f64>(&active, p).unwrap();
+            prop_assert!(pruned == direct || (pruned.is_nan() && direct.is_nan()));
+            prop_assert!(!full.is_nan() && !pruned.is_nan());
+            prop_assert_eq!(
+                full > 0.0, pruned > 0.0,
+                "sign mismatch at {:?}: full {} pruned {} ({} active of {})",
+                p, full, pruned, active.len(), sc.abvs.len()
+            );
+            prop_assert_eq!(full < 0.0, pruned < 0.0);
+        }
+    }
+
+    /// Bounds of every number type over a ray segment contain the sound
+    /// point enclosure (`Interval::point` inputs) at sample points, for
+    /// random trees whose primitives overlap (compact blends active).
+    #[test]
+    fn bound_containment(seed in any::<u64>()) {
+        let mut rng = Rng(seed);
+        let n = 2 + rng.below(10);
+        let tree = random_tree::<f64>(&mut rng, n, 1.0, 0.05, 0.15);
+        let flat = FlatBlobtree::from_node(&tree).unwrap();
+        let f = flat.as_ref();
+        let o = rng.point(3.0);
+        let d = rng.point(1.0);
+        let ray = Ray::new(o, d);
+        let t1 = rng.range(0.01, 1.5);
+        let iv: Interval<f64> = f.eval(ray.at(0.0, t1));
+        let af: Affine<f64, 4> = f.eval(ray.at(0.0, t1));
+        let fl: ForwardLinear<f64> = f.eval(ray.at(0.0, t1));
+        let fq: ForwardQuadratic<f64> = f.eval(ray.at(0.0, t1));
+        let af = af.to_interval();
+        for k in 0..3 {
+            let tt = match k { 0 => 0.0, 1 => t1, _ => rng.range(0.0, t1) };
+            let exact: Interval<f64> = f.eval(ray.at(tt, tt));
+            let meets = |b: Interval<f64>| !b.intersection(exact).is_empty();
+            prop_assert!(meets(iv), "Interval {:?} misses {:?} at t = {}", iv, exact, tt);
+            prop_assert!(meets(af), "Affine {:?} misses {:?} at t = {}", af, exact, tt);
+            if fl.is_valid() && tt <= fl.validity() {
+                prop_assert!(meets(fl.bounds_at(tt)), "ForwardLinear {:?} misses {:?} at t = {}", fl, exact, tt);
+            }
+            if fq.is_valid() && tt <= fq.validity() {
+                prop_assert!(meets(fq.bounds_at(tt)), "ForwardQuadratic {:?} misses {:?} at t = {}", fq, exact, tt);
+            }
+        }
+    }
+
+    /// Build → flat → decode gives the builder's tree (f32 parameters), and
+    /// re-encoding gives the same data.
+    #[test]
+    fn encoding_round_trip(seed in any::<u64>()) {
+        let mut rng = Rng(seed);
+        let n = 1 + rng.below(24);
+        let tree = random_tree::<f32>(&mut rng, n, 4.0, 0.05, 0.2);
+        let flat = FlatBlobtree::from_node(&tree).unwrap();
+        prop_assert_eq!(flat.len(), 2 * n - 1);
+        let back = flat.to_node::<f32>().unwrap();
+        prop_assert!(back == tree);
+        let again = FlatBlobtree::from_node(&back).unwrap();
+        prop_assert_eq!(&again, &flat);
+        let (nodes, params) = flat.clone().into_raw();
+        prop_assert_eq!(FlatBlobtree::from_raw(nodes, params).unwrap(), flat);
+    }
+
+    /// The fast-ancestor sparse traversal visits exactly the active nodes
+    /// (visited + skipped pass-through chain members, each once) and emits
+    /// the program of the recursive reference, for random active sets.
+    #[test]
+    fn sparse_traversal_matches_reference(seed in any::<u64>()) {
+        let mut rng = Rng(seed);
+        let n = 1 + rng.below(40);
+        let tree = random_tree::<f32>(&mut rng, n, 4.0, 0.0, 0.1);
+        let flat = FlatBlobtree::from_node(&tree).unwrap();
+        let density = rng.unit();
+        let active: Vec<u32> = flat
+            .primitive_indices()
+            .into_iter()
+            .filter(|_| rng.unit() < density)
+            .collect();
+        prop_assert_eq!(check_traversal(&flat, &active), Ok(()));
+        let view = BigView::build(flat.as_ref(), &active).unwrap();
+        let mut trace = Trace::default();
+        let present = sparse_traverse(&flat.as_ref(), &active, &mut trace).unwrap();
+        prop_assert_eq!(view.node_indices(), &trace.program[..]);
+        prop_assert_eq!(view.root_present(), present);
+    }
+}
+
+// ---------------------------------------------------------------------
+// Fixed cases.
+
+fn sphere(x: f32) -> Node<f32> {
+    Node::primitive(Primitive::sphere([x, 0.0, 0.0], 0.5).unwrap())
+}
+
+/// A left comb `((((s0 ∪ s1) ∪ s2) …) ∪ s_{n−1})`.
+fn comb(n: usize, op: Operator<f32>) -> Node<f32> {
+    let mut t = sphere(0.0);
+    for i in 1..n {
+        t = Node::op(op, t, sphere(i as f32));
+    }
+    t
+}
+
+/// A right comb `s0 ∪ (s1 ∪ (… ∪ s_{n−1}))`.
+fn right_comb(n: usize, op: Operator<f32>) -> Node<f32> {
+    let mut t = sphere((n - 1) as f32);
+    for i in (0..n - 1).rev() {
+        t = Node::op(op, sphere(i as f32), t);
+    }
+    t
+}
+
+#[test]
+fn traversal_on_combs_and_fixed_shapes() {
+    let ops = [
+        Operator::union(),
+        Operator::intersection(),
+        Operator::difference(),
+        Operator::compact_union(0.2, 0.3).unwrap(),
+    ];
+    for op in ops {
+        for tree in [comb(9, op), right_comb(9, op)] {
+            let flat = FlatBlobtree::from_node(&tree).unwrap();
+            let prims = flat.primitive_indices();
+            // Every subset of the 9 primitives.
+            for mask in 0u32..(1 << prims.len()) {
+                let active: Vec<u32> = prims
+                    .iter()
+                    .enumerate()
+                    .filter(|(k, _)| mask & (1 << k) != 0)
+                    .map(|(_, &p)| p)
+                    .collect();
+                assert_eq!(check_traversal(&flat, &active), Ok(()), "mask {mask:b}");
+            }
+        }
+    }
+}
+
+#[test]
+fn deep_comb_linearizes_and_evaluates() {
+    // 200,000 nodes: iterative linearization, drop and comparison.
+    let tree = comb(100_000, Operator::union());
+    let flat = FlatBlobtree::from_node(&tree).unwrap();
+    assert_eq!(flat.len(), 199_999);
+    assert_eq!(flat.stack_need(), 2);
+    let f: f32 = flat.as_ref().eval([0.0, 0.0, 0.0]);
+    assert_eq!(f, -0.5);
+    // Sparse: only the last primitive is active; the left chain is one jump.
+    let last = *flat.primitive_indices().last().unwrap();
+    let mut trace = Trace::default();
+    assert!(sparse_traverse(&flat.as_ref(), &[last], &mut trace).unwrap());
+    assert_eq!(
+        trace.visited.len(),
+        2,
+        "primitive, then one jump to the root"
+    );
+    let first = flat.primitive_indices()[0];
+    let mut trace = Trace::default();
+    assert!(sparse_traverse(&flat.as_ref(), &[first], &mut trace).unwrap());
+    assert_eq!(trace.visited.len(), 2, "the left spine is one chain");
+    assert!(flat.to_node::<f32>().unwrap() == tree);
+}
+
+#[test]
+fn too_large_trees_are_refused() {
+    // Raw data one node past the limit.
+    let nodes = vec![0u32; 2 * (MAX_NODES + 1)];
+    assert!(matches!(
+        BlobtreeRef::new(&nodes, &[]),
+        Err(FieldError::TooLarge { max: MAX_NODES, .. })
+    ));
+    assert!(matches!(
+        FlatBlobtree::from_raw(nodes, vec![]),
+        Err(FieldError::TooLarge { .. })
+    ));
+    // A right comb needs a stack as deep as the tree: refused past
+    // STACK_CAPACITY (not silently truncated).
+    let deep = right_comb(40, Operator::union());
+    assert!(matches!(
+        FlatBlobtree::from_node(&deep),
+        Err(FieldError::TooLarge { .. })
+    ));
+    // Pruned view capacity and stack overflows are reported.
+    let flat = FlatBlobtree::from_node(&right_comb(20, Operator::union())).unwrap();
+    let all = flat.primitive_indices();
+    assert!(matches!(
+        PrunedView::<'_, 255, 768, 8>::build(flat.as_ref(), &all),
+        Err(FieldError::TooLarge { .. })
+    ));
+    let flat = FlatBlobtree::from_node(&comb(20, Operator::union())).unwrap();
+    let all = flat.primitive_indices();
+    assert!(matches!(
+        PrunedView::<'_, 15, 768, 8>::build(flat.as_ref(), &all),
+        Err(FieldError::TooLarge { .. })
+    ));
+    let view = PrunedView::<'_, 39, 768, 2>::build(flat.as_ref(), &all).unwrap();
+    assert_eq!(view.len(), 39);
+    // D_cache overflow is not an error: the parameters stay global.
+    let view = PrunedView::<'_, 39, 16, 2>::build(flat.as_ref(), &all).unwrap();
+    assert!(view.uncached_nodes() > 0);
+    let p = [0.3f32, 0.1, 0.0];
+    let a: f32 = view.eval(p);
+    let b: f32 = flat.as_ref().eval(p);
+    assert_eq!(a, b);
+}
+
+#[test]
+fn malformed_data_is_refused() {
+    let tree = Node::op(
+        Operator::compact_difference(0.2, 0.3).unwrap(),
+        Node::op(
+            Operator::smooth_union(0.3).unwrap(),
+            sphere(0.0),
+            sphere(1.0),
+        ),
+        Node::op(Operator::intersection(), sphere(0.5), sphere(0.7)),
+    );
+    let flat = FlatBlobtree::from_node(&tree).unwrap();
+    let (nodes, params) = flat.clone().into_raw();
+    let refused = |n: &[u32], p: &[f32]| BlobtreeRef::new(n, p).is_err();
+    assert!(!refused(&nodes, &params));
+    // Odd word count, empty tree, truncated parameters.
+    assert!(refused(&nodes[..nodes.len() - 1], &params));
+    assert!(refused(&[], &params));
+    assert!(refused(&nodes, &params[..params.len() - 4]));
+    // Unknown kinds, unary bit, wrong ignoreMod, isLeft, ancestors, offsets.
+    let mutate = |i: usize, f: &dyn Fn(u32) -> u32| {
+        let mut n = nodes.clone();
+        n[i] = f(n[i]);
+        n
+    };
+    for i in 0..flat.len() {
+        let w = NodeWord(nodes[2 * i]);
+        if w.is_leaf() {
+            assert!(refused(&mutate(2 * i, &|x| x | (0xff << 22)), &params));
+        } else {
+            assert!(refused(&mutate(2 * i, &|x| x | (0x1f << 22)), &params));
+            assert!(refused(&mutate(2 * i, &|x| x | (1 << 27)), &params));
+            assert!(refused(&mutate(2 * i, &|x| x ^ (3 << 28)), &params));
+            assert!(refused(&mutate(2 * i, &|x| x ^ (1 << 31)), &params));
+        }
+        assert!(refused(&mutate(2 * i, &|x| x ^ (1 << 30)), &params));
+        assert!(refused(&mutate(2 * i, &|x| x ^ 1), &params));
+        assert!(refused(&mutate(2 * i + 1, &|x| x + 1000), &params));
+    }
+    // Every single-bit flip of every word is refused or stays safe to
+    // evaluate and traverse (no panic, no out-of-bounds).
+    for i in 0..nodes.len() {
+        for bit in 0..32 {
+            let n = mutate(i, &|x| x ^ (1 << bit));
+            if let Ok(r) = BlobtreeRef::new(&n, &params) {
+                let _: f32 = r.eval([0.1, 0.2, 0.3]);
+                let _: Interval<f32> = r.eval([Interval::new(0.0, 1.0); 3]);
+                let prims: Vec<u32> = (0..r.len() as u32)
+                    .filter(|&k| r.word(k).unwrap().is_leaf())
+                    .collect();
+                let _ = r.eval_sparse::<f32, f32>(&prims, [0.1, 0.2, 0.3]);
+            }
+        }
+    }
+    // Unsorted or non-leaf active lists.
+    let r = flat.as_ref();
+    assert!(r.eval_sparse::<f32, f32>(&[1, 0], [0.0; 3]).is_err());
+    assert!(r.eval_sparse::<f32, f32>(&[2], [0.0; 3]).is_err());
+    assert!(r.eval_sparse::<f32, f32>(&[0, 0], [0.0; 3]).is_err());
+    assert!(r.eval_sparse::<f32, f32>(&[99], [0.0; 3]).is_err());
+}
+
+#[test]
+fn roi_rules() {
+    use boundtrace::fields::blobtree::Roi;
+    let root = Roi::<f64>::root();
+    let cu = Operator::compact_union(0.2, 0.3).unwrap();
+    let ci = Operator::compact_intersection(0.2, 0.3).unwrap();
+    let cd = Operator::compact_difference(0.2, 0.3).unwrap();
+    assert_eq!(root.child(&cu, true), Roi { lo: 0.0, hi: 0.3 });
+    assert_eq!(root.child(&ci, false), Roi { lo: -0.3, hi: 0.0 });
+    assert_eq!(root.child(&cd, true), Roi { lo: -0.3, hi: 0.0 });
+    assert_eq!(root.child(&cd, false), Roi { lo: 0.0, hi: 0.3 });
+    let csg = Operator::union();
+    assert_eq!(root.child(&csg, true), root);
+    let su = Operator::smooth_union(0.2).unwrap();
+    assert_eq!(root.child(&su, true).hi, f64::INFINITY);
+    // Nested: a union under a difference's right operand.
+    let r = root.child(&cd, false).child(&cu, true);
+    assert_eq!(r, Roi { lo: 0.0, hi: 0.3 });
+    // ABVs: a smooth union makes its primitives always active.
+    let su32 = Operator::<f32>::smooth_union(0.2).unwrap();
+    let tree = Node::op(su32, sphere(0.0), sphere(1.0));
+    let flat = FlatBlobtree::from_node(&tree).unwrap();
+    assert!(flat.abvs::<f64>().iter().all(|a| a.volume.is_none()));
+    let cu32 = Operator::<f32>::compact_union(0.2, 0.3).unwrap();
+    let tree = Node::op(cu32, sphere(0.0), sphere(1.0));
+    let flat = FlatBlobtree::from_node(&tree).unwrap();
+    assert!(
+        flat.abvs::<f64>()
+            .iter()
+            .all(|a| a.volume.is_some() && a.r_plus == 0.3f32 as f64)
+    );
+}
+
+#[test]
+fn lipschitz_bound_is_product_of_factors() {
+    let cu = Operator::<f32>::compact_union(0.3, 0.4).unwrap();
+    let flat = FlatBlobtree::from_node(&comb(5, cu)).unwrap();
+    let l: f64 = flat.as_ref().lipschitz().unwrap();
+    let k = cu.lipschitz_factor() as f64;
+    assert!((l - k.powi(4)).abs() < 1e-5, "{l} vs {}", k.powi(4));
+    let view = PrunedView::<'_, 255, 768, 8>::build(flat.as_ref(), &flat.primitive_indices()[..2])
+        .unwrap();
+    let lv: f64 = view.lipschitz().unwrap();
+    assert!((lv - k).abs() < 1e-6);
+}
