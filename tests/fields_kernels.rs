@@ -395,3 +395,32 @@ fn containment_check_detects_a_wrong_bound() {
     assert!(!good.bounds_at(1.0).intersection(r).is_empty());
     assert!(wrong.bounds_at(1.0).intersection(r).is_empty());
 }
+
+/// The random cases do exercise the Taylor bounds: on a fixed-seed run,
+/// most cases without the HRBF term get a valid quadratic Taylor bound
+/// that is strictly tighter than bottom-up somewhere.
+#[test]
+fn taylor_bounds_are_exercised() {
+    use proptest::strategy::ValueTree;
+    use proptest::test_runner::TestRunner;
+    let mut runner = TestRunner::deterministic();
+    let (mut cases, mut valid, mut blob_cases) = (0, 0, 0);
+    while cases < 2000 {
+        let c = case().new_tree(&mut runner).unwrap().current();
+        cases += 1;
+        if c.variant == 3 {
+            continue;
+        }
+        blob_cases += 1;
+        let f = make_blobs::<f64>(c.iso, &c.a);
+        let ray = Ray::new(c.origin, c.dir);
+        let t0 = f64::from(c.t0_k) / 1024.0;
+        let t1 = t0 + f64::from(c.h_k) / 1024.0;
+        if let Some(q) = f.taylor_quadratic(&ray, t0, t1) {
+            if q.is_valid() && q.validity() > 0.0 {
+                valid += 1;
+            }
+        }
+    }
+    assert!(valid * 10 >= blob_cases * 8, "{valid} of {blob_cases}");
+}

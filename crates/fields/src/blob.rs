@@ -32,9 +32,13 @@
 //! ```
 //!
 //! - the linear Taylor bound (paper §5.1) needs an enclosure of `f'` on
-//!   `[t₀, t₁]`: `K'` is monotone in `u` (module docs of [`crate::kernel`]),
-//!   so `K'` over the `u` range times the range of the linear `u'` (chain
-//!   rule with intervals);
+//!   `[t₀, t₁]`: `f'` is extremal at the ends or where `f'' = 0`, i.e.
+//!   `H_e(u) = 0`, whose root `u*` is in closed form
+//!   ([`Kernel::ray_slope_critical_u`]), at `t = t_m ± √((u* − e)/α)`;
+//!   `f'` is evaluated in interval arithmetic at the ends and over
+//!   enclosures of those points (the compact kernel of degree 2, whose `f'`
+//!   jumps, uses the chain rule with intervals: `K'` over the `u` range
+//!   times the range of the linear `u'`);
 //! - the quadratic Taylor bound (§6.1) needs `f(t₀)`, `f'(t₀)` and `f''` on
 //!   `[t₀, t₁]`: `f''` is a function of `u` alone, whose extrema are at the
 //!   ends of the `u` range or at the closed-form critical point of `H_e`
@@ -168,6 +172,9 @@ pub struct Blobs<T, S> {
 /// Per-blob ray data: enclosures of `u(t₀)`, `u'(t₀)`, the `u` range ends,
 /// the range of `u'`, and `e`, `2α`.
 struct RayData<T> {
+    q: [Interval<T>; 3],
+    a: Interval<T>,
+    tm: Interval<T>,
     u_t0: Interval<T>,
     du_t0: Interval<T>,
     u_min: Interval<T>,
@@ -295,6 +302,9 @@ impl<T: Real, S: AsRef<[PointBlob<T>]>> Blobs<T, S> {
         let d_max = Interval::new(d0.lo().max(d1.lo()), d0.hi().max(d1.hi()));
         let norm = |x: Interval<T>| x / sigma / sigma;
         RayData {
+            q,
+            a,
+            tm,
             u_t0: norm(d0),
             du_t0: norm(dp0),
             u_min: norm(d_min),
@@ -303,6 +313,58 @@ impl<T: Real, S: AsRef<[PointBlob<T>]>> Blobs<T, S> {
             e: norm(e_line),
             two_alpha: norm(a) * T::TWO,
         }
+    }
+
+    /// `u'(t)·K'(u(t))` over enclosures `t ∈ T` (sound; tight for thin `T`).
+    fn slope_at(b: &PointBlob<T>, ray: &Ray<T>, r: &RayData<T>, t: Interval<T>) -> Interval<T> {
+        let sigma = b.kernel.sigma();
+        let v = ray.dir.map(Interval::point);
+        let x = [0, 1, 2].map(|k| v[k] * t + r.q[k]);
+        let u = dot3(x, x) / sigma / sigma;
+        let du = dot3(v, x) * T::TWO / sigma / sigma;
+        b.kernel.d_u(u) * du
+    }
+
+    /// Enclosure of `u'·K'(u)` (the blob's `f'/w`) over `[t0, t1]`: hull of
+    /// the ends and of the two critical points `t_m ± √((u* − e)/α)` of
+    /// [`Kernel::ray_slope_critical_u`] (`f'` is continuous there and
+    /// `f'' = 0` only at them), plus `0` when a compact support boundary
+    /// may be crossed (where `f'' ` is not defined, `f' = 0`). The compact
+    /// kernel of degree 2 (jumping `f'`) and a zero direction use the chain
+    /// rule with intervals, `K'(u range) · u' range`.
+    fn slope_range(
+        b: &PointBlob<T>,
+        ray: &Ray<T>,
+        r: &RayData<T>,
+        t0: T,
+        t1: T,
+        u_range: Interval<T>,
+    ) -> Interval<T> {
+        let k = b.kernel;
+        let crit = k.ray_slope_critical_u(r.e);
+        let Some(crit) = crit.filter(|_| r.a.lo() > T::ZERO) else {
+            return k.d_u(u_range) * r.du;
+        };
+        let sigma = b.kernel.sigma();
+        let mut s = Self::slope_at(b, ray, r, Interval::point(t0)).hull(Self::slope_at(
+            b,
+            ray,
+            r,
+            Interval::point(t1),
+        ));
+        let zero = Interval::point(T::ZERO);
+        let dt = ((crit - r.e).max(zero) * sigma * sigma / r.a).sqrt();
+        let tr = Interval::new(t0, t1);
+        for tc in [r.tm - dt, r.tm + dt] {
+            let tc = tc.intersection(tr);
+            if !tc.is_empty() {
+                s = s.hull(Self::slope_at(b, ray, r, tc));
+            }
+        }
+        if k.kind() == KernelKind::Compact && r.u_max.hi() >= T::ONE {
+            s = s.hull(zero);
+        }
+        s
     }
 
     /// Enclosures of `f(t₀)`, `f'(t₀)`, `f'` on `[t₀, t₁]` and (when
@@ -324,7 +386,7 @@ impl<T: Real, S: AsRef<[PointBlob<T>]>> Blobs<T, S> {
             let u_range = Interval::new(r.u_min.lo(), r.u_max.hi());
             f0 = f0 + k.eval_u(r.u_t0) * w;
             df0 = df0 + k.d_u(r.u_t0) * r.du_t0 * w;
-            df = df + k.d_u(u_range) * r.du * w;
+            df = df + Self::slope_range(b, ray, &r, t0, t1, u_range) * w;
             if second {
                 let h = k.ray_curvature_range(r.u_min, r.u_max, r.e);
                 d2f = d2f + h * r.two_alpha * w;

@@ -70,7 +70,17 @@
 //! | Gaussian | `e + 3/2` |
 //! | inverse | `(n + 4)e/(n + 1)` |
 //!
-//! (for `e = 0` these are the `k''` critical points above).
+//! (for `e = 0` these are the `k''` critical points above). The field's
+//! first derivative along the ray, `u'·K'(u)`, has its interior extrema
+//! where `f'' = 0`, i.e. at the root of `H_e` itself
+//! ([`ray_slope_critical_u`](Kernel::ray_slope_critical_u)):
+//!
+//! | kind | `H_e = 0` at `u =` |
+//! | --- | --- |
+//! | compact (`n ≥ 3`) | `(1 + (n − 2)e)/(n − 1)` (and the support boundary) |
+//! | Cauchy | `(1 + (n + 2)e)/(n + 1)` |
+//! | Gaussian | `e + 1/2` |
+//! | inverse | `(n + 2)e/(n + 1)` |
 //!
 //! # Soundness
 //!
@@ -518,6 +528,24 @@ impl<T: Real> Kernel<T> {
         (u - e) * T::TWO * self.profile_inside(u, 2) + self.profile_inside(u, 1)
     }
 
+    /// An enclosure of the root `u*` of `H_e(u) = 2(u − e)·K''(u) + K'(u)`
+    /// (module docs), where the field's derivative along a ray whose
+    /// squared normalized distance has minimum `e` (given as an enclosure)
+    /// is extremal; the points are `t = t_m ± √((u* − e)/α)`. `None` for
+    /// the compact kernel of degree 2 (`H_e = K' = −1`: no root; its `f'`
+    /// jumps at the support boundary instead).
+    pub fn ray_slope_critical_u(&self, e: Interval<T>) -> Option<Interval<T>> {
+        let n = Interval::point(T::from_f64(f64::from(self.degree)));
+        let two = T::TWO;
+        match self.kind {
+            KernelKind::Compact if self.degree == 2 => None,
+            KernelKind::Compact => Some(((n - two) * e + T::ONE) / (n - T::ONE)),
+            KernelKind::Cauchy => Some(((n + two) * e + T::ONE) / (n + T::ONE)),
+            KernelKind::Gaussian => Some(e + T::HALF),
+            KernelKind::Inverse => Some((n + two) * e / (n + T::ONE)),
+        }
+    }
+
     /// The enclosure of the interior critical point of `H_e`.
     fn curvature_critical_u(&self, e: Interval<T>) -> Interval<T> {
         let n = Interval::point(T::from_f64(f64::from(self.degree)));
@@ -774,6 +802,24 @@ mod tests {
                         "{k:?} [{d0}, {d1}] {r2:?} vs [{lo2}, {hi2}]"
                     );
                 }
+            }
+        }
+    }
+
+    #[test]
+    fn ray_slope_root_zeroes_curvature() {
+        for k in kernels() {
+            for &e in &[0.0, 0.1, 0.3] {
+                let Some(u) = k.ray_slope_critical_u(Interval::point(e)) else {
+                    assert_eq!(k.degree(), 2);
+                    continue;
+                };
+                let u = u.mid();
+                if k.kind() == KernelKind::Inverse && e == 0.0 {
+                    continue;
+                }
+                let h = 2.0 * (u - e) * k.d2_u(u) + k.d_u(u);
+                assert!(h.abs() < 1e-12 * (1.0 + k.d_u(u).abs()), "{k:?} e={e}: {h}");
             }
         }
     }
