@@ -27,7 +27,7 @@ use boundtrace::fields::bounding::Bounding;
 use boundtrace::fields::operator::{Operator, OperatorKind};
 use boundtrace::fields::sdf::{Primitive, PrimitiveKind};
 use boundtrace::fields::transform::Rigid;
-use boundtrace::ia_core::{Affine, Interval};
+use boundtrace::ia_core::{Affine, Interval, Real};
 use boundtrace::inclusion::{Field, FieldNum, ForwardLinear, ForwardQuadratic, Ray, gradient};
 use proptest::prelude::*;
 
@@ -140,61 +140,82 @@ fn arb_ray() -> impl Strategy<Value = (Ray<f64>, f64, f64)> {
         })
 }
 
-/// A field evaluated by any closure-like object.
-trait Eval {
-    fn ev<N: FieldNum<f64>>(&self, p: [N; 3]) -> N;
+/// A field evaluated in any number type over the float `T`.
+trait Eval<T: Real> {
+    fn ev<N: FieldNum<T>>(&self, p: [N; 3]) -> N;
 }
-impl Eval for Primitive<f64> {
-    fn ev<N: FieldNum<f64>>(&self, p: [N; 3]) -> N {
+impl<T: Real> Eval<T> for Primitive<T> {
+    fn ev<N: FieldNum<T>>(&self, p: [N; 3]) -> N {
         self.eval(p)
     }
 }
-struct Pair(Operator<f64>, Primitive<f64>, Primitive<f64>);
-impl Eval for Pair {
-    fn ev<N: FieldNum<f64>>(&self, p: [N; 3]) -> N {
+struct Pair<T>(Operator<T>, Primitive<T>, Primitive<T>);
+impl<T: Real> Eval<T> for Pair<T> {
+    fn ev<N: FieldNum<T>>(&self, p: [N; 3]) -> N {
         self.0.eval(self.1.eval(p), self.2.eval(p))
     }
 }
 
+/// The same primitive in `f32`, through its flat parameters.
+fn to_f32(p: &Primitive<f64>) -> Primitive<f32> {
+    let mut buf = [0.0f32; 12];
+    p.write_params(&mut buf).unwrap();
+    Primitive::read_params(p.kind(), &buf).unwrap()
+}
+
 /// Checks every bound type against the `Interval` reference at 9 sample
-/// points; returns a description of the first violation.
-fn check_containment<F: Eval>(f: &F, ray: &Ray<f64>, t0: f64, t1: f64) -> Result<(), String> {
-    let iv: Iv = f.ev(ray.at(t0, t1));
-    let af: Affine<f64, 2> = f.ev(ray.at(t0, t1));
+/// points; returns a description of the first violation. `slack` is the
+/// tolerance of the plain float evaluation against the reference.
+fn check_containment<T: Real + FieldNum<T> + std::fmt::Debug, F: Eval<T>>(
+    f: &F,
+    ray: &Ray<T>,
+    t0: T,
+    t1: T,
+    slack: f64,
+) -> Result<(), String> {
+    let iv: Interval<T> = f.ev(ray.at(t0, t1));
+    let af: Affine<T, 2> = f.ev(ray.at(t0, t1));
     let afr = af.to_interval();
-    let fl: ForwardLinear<f64> = f.ev(ray.at(t0, t1));
-    let fq: ForwardQuadratic<f64> = f.ev(ray.at(t0, t1));
+    let fl: ForwardLinear<T> = f.ev(ray.at(t0, t1));
+    let fq: ForwardQuadratic<T> = f.ev(ray.at(t0, t1));
     for m in 0..=8 {
-        let tau = (t1 - t0) * f64::from(m) / 8.0;
+        // Exact: t0, t1 lie on the grid i/1024.
+        let tau = (t1 - t0) * T::from_f64(f64::from(m) / 8.0);
         let t = t0 + tau;
-        let reference: Iv = f.ev(ray.at(t, t));
-        let meets = |b: Iv| !b.intersection(reference).is_empty();
+        let reference: Interval<T> = f.ev(ray.at(t, t));
+        let meets = |b: Interval<T>| !b.intersection(reference).is_empty();
         if !meets(iv) {
-            return Err(format!("Interval {iv:?} misses {reference:?} at t = {t}"));
+            return Err(format!("Interval {iv:?} misses {reference:?} at t = {t:?}"));
         }
         if !meets(afr) {
-            return Err(format!("Affine {afr:?} misses {reference:?} at t = {t}"));
+            return Err(format!("Affine {afr:?} misses {reference:?} at t = {t:?}"));
         }
         if tau <= fl.validity() && !meets(fl.bounds_at(tau)) {
             return Err(format!(
-                "ForwardLinear {:?} misses {reference:?} at t = {t}",
+                "ForwardLinear {:?} misses {reference:?} at t = {t:?}",
                 fl.bounds_at(tau)
             ));
         }
         if tau <= fq.validity() && !meets(fq.bounds_at(tau)) {
             return Err(format!(
-                "ForwardQuadratic {:?} misses {reference:?} at t = {t}",
+                "ForwardQuadratic {:?} misses {reference:?} at t = {t:?}",
                 fq.bounds_at(tau)
             ));
         }
         // The float evaluation lies in the reference too (to rounding).
-        let v: f64 = f.ev(ray.at(t, t));
-        let slack = 1e-9 * (1.0 + v.abs());
-        if !(v >= reference.lo() - slack && v <= reference.hi() + slack) {
-            return Err(format!("f64 value {v} not in {reference:?} at t = {t}"));
+        let v: T = f.ev(ray.at(t, t));
+        let (v, lo, hi) = (v.as_f64(), reference.lo().as_f64(), reference.hi().as_f64());
+        let sl = slack * (1.0 + v.abs());
+        if !(v >= lo - sl && v <= hi + sl) {
+            return Err(format!("float value {v} not in {reference:?} at t = {t:?}"));
         }
     }
     Ok(())
+}
+
+fn ray_f32(r: &Ray<f64>) -> Ray<f32> {
+    let c = |a: [f64; 3]| [a[0] as f32, a[1] as f32, a[2] as f32];
+    Ray::new(c(r.origin), c(r.dir))
 }
 
 /// Operand functions of the ray parameter: `a + b t + c t²`.
@@ -241,9 +262,6 @@ impl Field<f64> for Tree {
         }
     }
 }
-
-/// Largest gradient norm seen on compact trees, and its ratio to the bound.
-static TREE_MAX: Mutex<(f64, f64)> = Mutex::new((0.0, 0.0));
 
 /// Whether `p` lies in the closed bounding volume (a sphere-cone is tested
 /// as the hull of its two balls when the radii are equal, which is what
@@ -297,7 +315,10 @@ proptest! {
     /// Every bound type encloses every primitive (random transforms).
     #[test]
     fn primitive_containment(prim in arb_prim(), (ray, t0, t1) in arb_ray()) {
-        check_containment(&prim, &ray, t0, t1).map_err(|e| TestCaseError::fail(format!("{prim:?}: {e}")))?;
+        check_containment(&prim, &ray, t0, t1, 1e-9).map_err(|e| TestCaseError::fail(format!("{prim:?}: {e}")))?;
+        let p32 = to_f32(&prim);
+        check_containment(&p32, &ray_f32(&ray), t0 as f32, t1 as f32, 1e-3)
+            .map_err(|e| TestCaseError::fail(format!("f32 {p32:?}: {e}")))?;
     }
 
     /// Every bound type encloses every operator applied to two random
@@ -309,7 +330,13 @@ proptest! {
         (ray, t0, t1) in arb_ray(),
     ) {
         let f = Pair(make_op(k, ub, ur), p0, p1);
-        check_containment(&f, &ray, t0, t1).map_err(|e| TestCaseError::fail(format!("{:?}: {e}", f.0)))?;
+        check_containment(&f, &ray, t0, t1, 1e-9).map_err(|e| TestCaseError::fail(format!("{:?}: {e}", f.0)))?;
+        let mut ob = [0.0f32; 4];
+        f.0.write_params(&mut ob).unwrap();
+        let op32 = Operator::<f32>::read_params(f.0.kind(), &ob).unwrap();
+        let f32pair = Pair(op32, to_f32(&f.1), to_f32(&f.2));
+        check_containment(&f32pair, &ray_f32(&ray), t0 as f32, t1 as f32, 1e-3)
+            .map_err(|e| TestCaseError::fail(format!("f32 {op32:?}: {e}")))?;
     }
 
     /// Operands that cross the boundary of `R_o` inside the ray interval
@@ -573,35 +600,47 @@ fn exact_values() {
     assert!(close(s.eval([2.0, 3.0, 0.0]), 2.0));
 }
 
-/// Random trees of compact operators: the measured gradient norm stays
-/// below the product of the operators' Lipschitz factors; prints the largest
-/// norm and ratio seen (`--nocapture`).
+/// Random trees of operators: the measured gradient norm stays below the
+/// product of the operators' Lipschitz factors. Runs once with compact
+/// operators only and once with every kind (CSG and smooth have factor 1);
+/// prints the largest norm and ratio seen (`--nocapture`).
 #[test]
-fn compact_tree_lipschitz() {
-    let strategy = (
-        prop::array::uniform3(arb_compact_op()),
-        prop::array::uniform4(arb_prim()),
-        any::<bool>(),
-        prop::array::uniform3(-2.0f64..2.0),
-    );
-    let mut runner = proptest::test_runner::TestRunner::new(common::config());
-    runner
-        .run(&strategy, |(ops, prims, comb, p)| {
-            let tree = Tree { ops, prims, comb };
-            let bound: f64 = ops.iter().map(|o| o.lipschitz_factor()).product();
-            let g = gradient(&tree, p);
-            let n = norm(g);
-            prop_assert!(n.is_finite(), "gradient {g:?}");
-            prop_assert!(n <= bound * (1.0 + 1e-9), "|∇f| = {n} > {bound}");
-            let mut m = TREE_MAX.lock().unwrap();
-            m.0 = m.0.max(n);
-            m.1 = m.1.max(n / bound);
-            Ok(())
-        })
-        .unwrap();
-    let m = *TREE_MAX.lock().unwrap();
-    eprintln!(
-        "compact trees: max |∇f| = {:.4}, max |∇f|/bound = {:.4}",
-        m.0, m.1
-    );
+fn tree_lipschitz() {
+    for (name, kinds) in [("compact", 6u32..9), ("all kinds", 0u32..9)] {
+        let op = (kinds, 0.0f64..=1.0, 0.0f64..=1.0).prop_map(|(k, a, b)| make_op(k, a, b));
+        let strategy = (
+            prop::array::uniform3(op),
+            prop::array::uniform4(arb_prim()),
+            any::<bool>(),
+            prop::array::uniform3(-2.0f64..2.0),
+        );
+        let max = Mutex::new((0.0f64, 0.0f64));
+        let config = proptest::test_runner::Config {
+            failure_persistence: None,
+            ..common::config()
+        };
+        let mut runner = proptest::test_runner::TestRunner::new(config);
+        runner
+            .run(&strategy, |(ops, prims, comb, p)| {
+                let tree = Tree { ops, prims, comb };
+                let bound: f64 = ops.iter().map(|o| o.lipschitz_factor()).product();
+                let g = gradient(&tree, p);
+                let n = norm(g);
+                prop_assert!(n.is_finite(), "gradient {g:?}");
+                prop_assert!(
+                    n <= bound * (1.0 + 1e-9),
+                    "|∇f| = {n} > {bound} for {ops:?}"
+                );
+                let mut m = max.lock().unwrap();
+                m.0 = m.0.max(n);
+                m.1 = m.1.max(n / bound);
+                Ok(())
+            })
+            .unwrap();
+        let m = *max.lock().unwrap();
+        eprintln!(
+            "{name} trees: max |∇f| = {:.4}, max |∇f|/bound = {:.4}",
+            m.0, m.1
+        );
+    }
 }

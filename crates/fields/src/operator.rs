@@ -258,7 +258,9 @@ impl<T: Real> Operator<T> {
         if denom.is_nan() || denom <= T::ZERO {
             return Err(invalid("r_o", "6·r_o − β must be > 0 (eq. 18)"));
         }
-        if r_o < Self::min_r_o(kind, beta) {
+        // A relative tolerance of 2⁻²⁰ lets parameters rounded to f32 pass
+        // (continuity then holds up to that rounding).
+        if r_o < Self::min_r_o(kind, beta) * (T::ONE - T::from_f64(9.5367431640625e-7)) {
             return Err(invalid(
                 "r_o",
                 "too small for β: continuity needs r_o ≥ 7β/6 (union) or r_o ≥ β (intersection, difference)",

@@ -739,3 +739,81 @@ fn local_box_to_world<T: Real>(rig: &Rigid<T>, half: [T; 3], slack: T) -> Boundi
     }
     Bounding::Aabb(Aabb { min, max })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use boundtrace_ia_core::Interval;
+    use boundtrace_inclusion::gradient;
+
+    #[test]
+    fn kinds_round_trip() {
+        for (i, k) in PrimitiveKind::ALL.iter().enumerate() {
+            assert_eq!(PrimitiveKind::from_u32(i as u32), Some(*k));
+            assert_eq!(*k as u32, i as u32);
+        }
+        assert_eq!(PrimitiveKind::from_u32(11), None);
+    }
+
+    #[test]
+    fn box_branches_agree() {
+        // Inside, outside and straddling the box: the interval evaluation
+        // encloses the point values and the jet gradient is finite inside.
+        let b = Primitive::cuboid([0.0; 3], [1.0, 0.5, 0.25]).unwrap();
+        for x in [-2.0, -0.9, 0.0, 0.3, 0.99, 1.0, 1.5] {
+            let p = [x, 0.1, -0.1];
+            let v: f64 = b.eval(p);
+            let i: Interval<f64> = b.eval([
+                Interval::new(x - 0.2, x + 0.2),
+                Interval::point(0.1),
+                Interval::point(-0.1),
+            ]);
+            assert!(i.contains(v), "{x}: {v} ∉ {i:?}");
+            let g = gradient(&b, p);
+            assert!(g.iter().all(|c| c.is_finite()), "{x}: {g:?}");
+        }
+    }
+
+    #[test]
+    fn gyroid_and_blob_values() {
+        let g = Primitive::gyroid(2.0f64, 0.2).unwrap();
+        assert!((g.eval([0.0f64; 3]) + 0.1).abs() < 1e-15);
+        let b = Primitive::blob([0.0; 3], 1.0f64, 0.5).unwrap();
+        let d0 = (1.0 - 0.5f64.cbrt()).sqrt();
+        assert!((b.eval([0.5f64, 0.0, 0.0]) - (0.5 - d0)).abs() < 1e-12);
+        assert!((b.eval([5.0f64, 0.0, 0.0]) - (1.0 - d0)).abs() < 1e-15);
+        // ABV: none once r reaches the exterior constant R − d₀.
+        assert!(b.abv(0.1).is_some());
+        assert!(b.abv(1.0 - d0).is_none());
+    }
+
+    #[test]
+    fn abv_and_params() {
+        let s = Primitive::sphere([1.0, 2.0, 3.0], 0.5f64).unwrap();
+        match s.abv(0.25) {
+            Some(Bounding::Sphere(b)) => {
+                assert_eq!(b.center, [1.0, 2.0, 3.0]);
+                assert!(b.radius >= 0.75 && b.radius < 0.75 + 1e-9);
+            }
+            other => panic!("{other:?}"),
+        }
+        assert!(
+            Primitive::plane([0.0; 3], [0.0, 0.0, 1.0f64])
+                .unwrap()
+                .abv(1.0)
+                .is_none()
+        );
+        let mut buf = [0.0f32; 12];
+        s.write_params(&mut buf).unwrap();
+        assert_eq!(&buf[4..9], &[1.0, 2.0, 3.0, 0.0, 0.5]);
+        assert!(s.write_params(&mut buf[..11]).is_err());
+        assert_eq!(
+            Primitive::<f64>::read_params(PrimitiveKind::Sphere, &buf),
+            Some(s)
+        );
+        assert_eq!(
+            Primitive::<f64>::read_params(PrimitiveKind::Sphere, &buf[..11]),
+            None
+        );
+    }
+}
