@@ -81,7 +81,12 @@ fn make_prim(k: u32, u: &Params, q: [f64; 4], t: [f64; 3]) -> Primitive<f64> {
         }
         PrimitiveKind::Ellipsoid => Primitive::ellipsoid(c, h),
         PrimitiveKind::Gyroid => Primitive::gyroid(lerp(0.3, 3.0, u[0]), lerp(0.01, 0.5, u[1])),
-        PrimitiveKind::Blob => Primitive::blob(c, lerp(0.2, 2.0, u[0]), lerp(0.05, 0.95, u[1])),
+        PrimitiveKind::Blob => Primitive::blob_with_degree(
+            c,
+            lerp(0.2, 2.0, u[0]),
+            lerp(0.05, 0.95, u[1]),
+            2 + (u[2] * 10.0) as u32,
+        ),
     }
     .unwrap();
     let rig = Rigid::new(q, t).unwrap();

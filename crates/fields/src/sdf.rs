@@ -22,7 +22,7 @@
 //! | [`Cone`](PrimitiveKind::Cone) | capped cone (frustum): `max(lateral, |z| − h)` | no, underestimates near the rims |
 //! | [`Ellipsoid`](PrimitiveKind::Ellipsoid) | `r_min (|p / r| − 1)` | no (exact for a sphere) |
 //! | [`Gyroid`](PrimitiveKind::Gyroid) | `|g(kp)| / (√3 k) − w/2` | no (infinite sheet) |
-//! | [`Blob`](PrimitiveKind::Blob) | `R √(1 − ρ^{1/3}) − d₀`, `ρ = (1 − |p|²/R²)₊³` | yes for an isolated blob (clamped at `R − d₀`) |
+//! | [`Blob`](PrimitiveKind::Blob) | `R √(1 − ρ^{2/n}) − d₀`, `ρ = (1 − |p|²/R²)₊^{n/2}` ([`crate::kernel`]) | yes for an isolated blob (clamped at `R − d₀`) |
 //!
 //! Branches (the box corner formula) are decided with
 //! [`FieldNum::enclosure`]; when a
@@ -336,26 +336,45 @@ impl<T: Real> Primitive<T> {
         ))
     }
 
+    /// A compact point blob normalized to a distance, with the compact
+    /// polynomial kernel of degree 6 ([`blob_with_degree`](Self::blob_with_degree)
+    /// with `n = 6`: density `ρ = (1 − |p − c|²/R²)₊³`, a `C²` kernel).
+    ///
+    /// # Errors
+    /// As [`blob_with_degree`](Self::blob_with_degree).
+    pub fn blob(center: [T; 3], radius: T, iso: T) -> Result<Self, FieldError> {
+        Self::blob_with_degree(center, radius, iso, 6)
+    }
+
     /// A compact point blob normalized to a distance: the density
-    /// `ρ(p) = (1 − |p − c|²/R²)₊³` (compact polynomial kernel of degree 3 in
-    /// `|p|²`) with iso-value `iso ∈ (0, 1)` is mapped back through the
-    /// inverse of the kernel profile, `g(ρ) = R √(1 − ρ^{1/3})`, giving
-    /// `f = g(ρ) − d₀` with `d₀ = R √(1 − iso^{1/3})` the radius of the
-    /// iso-surface. For an isolated blob this is exactly
+    /// `ρ(p) = K(|p − c|²/R²)` of the compact polynomial kernel
+    /// [`Kernel::compact`](crate::kernel::Kernel::compact)`(n, R)`,
+    /// `K(u) = (1 − u)₊^{n/2}`, with iso-value `iso ∈ (0, 1)`, is mapped back
+    /// through the inverse of the kernel profile, `g(ρ) = R √(1 − ρ^{2/n})`,
+    /// giving `f = g(ρ) − d₀` with `d₀ = R √(1 − iso^{2/n})` the radius of
+    /// the iso-surface. For an isolated blob this is exactly
     /// `min(|p − c|, R) − d₀`: an SDF inside the support, the constant
-    /// `R − d₀` outside (Lipschitz 1).
+    /// `R − d₀` outside (Lipschitz 1, up to the rounding of the round
+    /// trip through the density).
     ///
     /// # Errors
     /// [`FieldError::InvalidParameter`] for a non-finite center, a radius
-    /// that is NaN, infinite or ≤ 0, or an iso-value outside `(0, 1)`.
-    pub fn blob(center: [T; 3], radius: T, iso: T) -> Result<Self, FieldError> {
+    /// that is NaN, infinite or ≤ 0, an iso-value outside `(0, 1)`, or a
+    /// degree outside `[2, 64]`.
+    pub fn blob_with_degree(
+        center: [T; 3],
+        radius: T,
+        iso: T,
+        degree: u32,
+    ) -> Result<Self, FieldError> {
         let r = crate::error::positive("radius", radius)?;
-        if !(iso > T::ZERO && iso < T::ONE) {
+        if iso.is_nan() || iso <= T::ZERO || iso >= T::ONE {
             return Err(invalid("iso", "must be in (0, 1)"));
         }
+        crate::kernel::Kernel::compact(degree, r)?;
         Ok(Self::make(
             PrimitiveKind::Blob,
-            [r, iso, T::ZERO, T::ZERO],
+            [r, iso, T::from_f64(f64::from(degree)), T::ZERO],
             Rigid::translation(crate::error::finite3("center", center)?)?,
         ))
     }
@@ -394,7 +413,7 @@ impl<T: Real> Primitive<T> {
     /// | --- | --- |
     /// | 0 | rotation quaternion `[x, y, z, w]` |
     /// | 1 | translation `[x, y, z]`, `0` |
-    /// | 2 | shape: sphere `[r]`; box `[hx, hy, hz]`; rounded box `[hx, hy, hz, ρ]`; capsule, cylinder `[h, r]` (half length, radius); torus `[R, r]`; cone `[h, ra, rb]`; ellipsoid `[rx, ry, rz]`; gyroid `[period, thickness]`; blob `[R, iso]`; unused entries `0` |
+    /// | 2 | shape: sphere `[r]`; box `[hx, hy, hz]`; rounded box `[hx, hy, hz, ρ]`; capsule, cylinder `[h, r]` (half length, radius); torus `[R, r]`; cone `[h, ra, rb]`; ellipsoid `[rx, ry, rz]`; gyroid `[period, thickness]`; blob `[R, iso, n]` (kernel degree); unused entries `0` |
     ///
     /// (the plane has no shape slot).
     ///
@@ -476,7 +495,13 @@ impl<T: Real> Primitive<T> {
             }
             PrimitiveKind::Ellipsoid => Self::ellipsoid(o, [s[0], s[1], s[2]]).is_ok(),
             PrimitiveKind::Gyroid => Self::gyroid(s[0], s[1]).is_ok(),
-            PrimitiveKind::Blob => Self::blob(o, s[0], s[1]).is_ok(),
+            PrimitiveKind::Blob => {
+                let n = s[2];
+                n == n.round()
+                    && n >= T::TWO
+                    && n <= T::from_f64(64.0)
+                    && Self::blob_with_degree(o, s[0], s[1], n.as_f64() as u32).is_ok()
+            }
         };
         ok.then_some(Self::make(kind, shape, rigid))
     }
@@ -525,16 +550,20 @@ impl<T: Real> Primitive<T> {
             }
             PrimitiveKind::Gyroid => gyroid(q, s[0], s[1]),
             PrimitiveKind::Blob => {
-                let (big_r, iso) = (s[0], s[1]);
-                let d0 = big_r * (T::ONE - iso.cbrt()).sqrt();
-                let u = (q[0].sqr() + q[1].sqr() + q[2].sqr()) / big_r.powi(2);
-                let rho = u.one_minus_clamped().powi(3);
+                let (big_r, iso, n) = (s[0], s[1], s[2]);
+                let d0 = blob_d0(big_r, iso, n);
+                let kernel = crate::kernel::Kernel::compact(n.as_f64() as u32, big_r);
+                let rho = match kernel {
+                    Ok(k) => k.eval_sq(q[0].sqr() + q[1].sqr() + q[2].sqr()),
+                    // Unreachable: validated at construction.
+                    Err(_) => N::constant(T::ZERO),
+                };
                 let e = rho.enclosure();
                 if e.hi() <= T::ZERO {
                     // Outside the support: g(0) = R.
                     N::constant(big_r - d0)
                 } else {
-                    let c = rho.powf(T::ONE / T::from_f64(3.0));
+                    let c = rho.powf(T::TWO / n);
                     (-c + T::ONE).max(N::constant(T::ZERO)).sqrt() * big_r - d0
                 }
             }
@@ -625,8 +654,8 @@ impl<T: Real> Primitive<T> {
                 ))
             }
             PrimitiveKind::Blob => {
-                let (big_r, iso) = (s[0], s[1]);
-                let d0 = big_r * (T::ONE - iso.cbrt()).sqrt();
+                let big_r = s[0];
+                let d0 = blob_d0(big_r, s[1], s[2]);
                 if d0 + r + slack >= big_r {
                     None
                 } else {
@@ -645,6 +674,11 @@ impl<T: Real> Field<T> for Primitive<T> {
     fn lipschitz(&self) -> Option<T> {
         Some(Primitive::lipschitz(self))
     }
+}
+
+/// The iso-surface radius of a normalized blob: `R √(1 − iso^{2/n})`.
+fn blob_d0<T: Real>(big_r: T, iso: T, n: T) -> T {
+    big_r * (T::ONE - iso.powf(T::TWO / n)).sqrt()
 }
 
 /// The local frame of a segment `[a, b]`: center at the midpoint, `z` along
