@@ -595,12 +595,44 @@ mod tests {
     }
 
     #[test]
+    fn missing_operand_is_plus_infinity() {
+        let big = 1e30f64;
+        for kind in OperatorKind::ALL {
+            let op = match kind {
+                OperatorKind::Union => Operator::union(),
+                OperatorKind::Intersection => Operator::intersection(),
+                OperatorKind::Difference => Operator::difference(),
+                OperatorKind::SmoothUnion => Operator::smooth_union(0.3).unwrap(),
+                OperatorKind::SmoothIntersection => Operator::smooth_intersection(0.3).unwrap(),
+                OperatorKind::SmoothDifference => Operator::smooth_difference(0.3).unwrap(),
+                OperatorKind::CompactUnion => Operator::compact_union(0.3, 0.4).unwrap(),
+                OperatorKind::CompactIntersection => {
+                    Operator::compact_intersection(0.3, 0.4).unwrap()
+                }
+                OperatorKind::CompactDifference => Operator::compact_difference(0.3, 0.4).unwrap(),
+            };
+            for a in [-2.0, -0.1, 0.0, 0.2, 3.0] {
+                // A missing operand acts as +∞: `None` stands for a result
+                // that is (beyond) +∞ itself.
+                for (x, y) in [(Some(a), None), (None, Some(a))] {
+                    let full = op.eval(x.unwrap_or(big), y.unwrap_or(big));
+                    match op.eval_partial(x, y) {
+                        Some(v) => assert_eq!(v, full, "{kind:?} {x:?} {y:?}"),
+                        None => assert!(full >= big, "{kind:?} {x:?} {y:?}: {full}"),
+                    }
+                }
+            }
+            assert_eq!(op.eval_partial::<f64>(None, None), None);
+        }
+    }
+
+    #[test]
     fn nan_free_at_b_zero() {
         let op = Operator::compact_union(0.3f64, 0.5).unwrap();
         // b_r = 0 at (r_o, r_o) with s = 0: 0/0 without the filter.
         let v = op.eval(0.5f64, 0.5);
         assert_eq!(v, 0.5);
         let v = op.eval(f64::NEG_INFINITY, f64::NEG_INFINITY);
-        assert!(!v.is_nan() || v == f64::NEG_INFINITY);
+        assert_eq!(v, f64::NEG_INFINITY);
     }
 }
