@@ -76,6 +76,11 @@ fn t3<T: Real>(p: [f64; 3]) -> [T; 3] {
 /// `plane_p`) near a random point of the cube `[−half, half]³`.
 fn primitive<T: Real>(rng: &mut Rng, half: f64, plane_p: f64) -> Primitive<T> {
     let c = rng.point(half);
+    primitive_at(rng, c, plane_p)
+}
+
+/// A random primitive near `c`.
+fn primitive_at<T: Real>(rng: &mut Rng, c: [f64; 3], plane_p: f64) -> Primitive<T> {
     let s = |rng: &mut Rng| rng.f(0.3, 1.2);
     if rng.unit() < plane_p {
         let n = rng.point(1.0);
@@ -168,16 +173,72 @@ fn random_tree<T: Real>(
     plane_p: f64,
     smooth_p: f64,
 ) -> Node<T> {
-    let mut items: Vec<Node<T>> = (0..n)
+    let items: Vec<Node<T>> = (0..n)
         .map(|_| Node::primitive(primitive(rng, half, plane_p)))
         .collect();
+    merge_randomly(rng, items, smooth_p, false)
+}
+
+/// Merges adjacent items at random positions until one is left. With
+/// `coherent`, operators joining subtrees of more than 3 primitives are
+/// mostly unions (a modeling-like scene: blends and cuts are local).
+fn merge_randomly<T: Real>(
+    rng: &mut Rng,
+    mut items: Vec<Node<T>>,
+    smooth_p: f64,
+    coherent: bool,
+) -> Node<T> {
+    let mut sizes = vec![1usize; items.len()];
     while items.len() > 1 {
         let i = rng.below(items.len() - 1);
         let r = items.remove(i + 1);
         let l = items.remove(i);
-        items.insert(i, Node::op(operator(rng, smooth_p), l, r));
+        let size = sizes.remove(i + 1) + sizes[i];
+        sizes[i] = size;
+        let mut op = operator(rng, smooth_p);
+        if coherent && size > 3 && rng.unit() < 0.85 {
+            op = match rng.below(3) {
+                0 => Operator::union(),
+                _ => {
+                    let beta = rng.f(0.1, 0.6);
+                    Operator::compact_union(t(beta), t((beta * 1.5) as f32 as f64)).unwrap()
+                }
+            };
+        }
+        items.insert(i, Node::op(op, l, r));
     }
     items.pop().unwrap()
+}
+
+/// A spatially coherent scene: primitive centers in Morton order of a
+/// 4×4×4 grid over `[−half, half]³`, so that merged neighbours are close.
+fn coherent_tree<T: Real>(
+    rng: &mut Rng,
+    n: usize,
+    half: f64,
+    plane_p: f64,
+    smooth_p: f64,
+) -> Node<T> {
+    let mut centers: Vec<(u32, [f64; 3])> = (0..n)
+        .map(|_| {
+            let c = rng.point(half);
+            let cell = |x: f64| (((x + half) / (2.0 * half) * 4.0) as u32).min(3);
+            let (a, b, d) = (cell(c[0]), cell(c[1]), cell(c[2]));
+            let mut key = 0;
+            for bit in 0..2 {
+                key |= ((a >> bit) & 1) << (3 * bit)
+                    | ((b >> bit) & 1) << (3 * bit + 1)
+                    | ((d >> bit) & 1) << (3 * bit + 2);
+            }
+            (key, c)
+        })
+        .collect();
+    centers.sort_by_key(|x| x.0);
+    let items = centers
+        .into_iter()
+        .map(|(_, c)| Node::primitive(primitive_at(rng, c, plane_p)))
+        .collect();
+    merge_randomly(rng, items, smooth_p, true)
 }
 
 // ---------------------------------------------------------------------
@@ -336,8 +397,19 @@ fn scenes() -> &'static [Scene] {
             (4, 0.05, 0.0),
         ] {
             let mut rng = Rng(seed);
-            let half = 6.0;
-            let tree = random_tree::<f64>(&mut rng, 120, half, plane_p, smooth_p);
+            // Three modeling-like scenes, one dense fully random one
+            // (intersections and differences at every level).
+            let (half, tree) = if seed < 4 {
+                (
+                    4.0,
+                    coherent_tree::<f64>(&mut rng, 120, 4.0, plane_p, smooth_p),
+                )
+            } else {
+                (
+                    2.0,
+                    random_tree::<f64>(&mut rng, 120, 2.0, plane_p, smooth_p),
+                )
+            };
             let flat = FlatBlobtree::from_node(&tree).unwrap();
             assert!(flat.len() >= 200);
             let abvs = flat.abvs::<f64>();
