@@ -4,8 +4,8 @@
 //!
 //! Containment: each case draws a random scene (1–4 blobs with random
 //! kernels of every family, weights, scales, an iso-value; as a plain
-//! [`Blobs`] sum, a [`Union`] of two sums, or a [`Sum`] with a fixed fitted
-//! [`Hrbf`]), a random ray and a random interval `[t0, t0 + h]` (dyadic, so
+//! [`Blobs`] sum, a [`Union`], [`Intersection`] or [`Ricci`] blend of two
+//! sums, or a [`Sum`] with a fixed fitted [`Hrbf`]), a random ray and a random interval `[t0, t0 + h]` (dyadic, so
 //! the 17 sample points `t0 + h·k/16` and their offsets are exact floats).
 //! The reference at a sample is the field evaluated with point intervals (a
 //! sound enclosure of the exact value); a violation is a bound that does not
@@ -20,7 +20,7 @@ use std::sync::OnceLock;
 
 use boundtrace::fields::FieldError;
 use boundtrace::fields::blob::{Blobs, PointBlob};
-use boundtrace::fields::density::{Sum, Union};
+use boundtrace::fields::density::{Intersection, Ricci, Sum, Union};
 use boundtrace::fields::hrbf::{Hrbf, HrbfCenter};
 use boundtrace::fields::kernel::{Kernel, KernelKind};
 use boundtrace::ia_core::{Affine, Interval};
@@ -140,7 +140,7 @@ struct Case {
 
 fn case() -> impl Strategy<Value = Case> {
     (
-        0u32..4,
+        0u32..6,
         0.1f64..1.0,
         prop::collection::vec(bdesc(), 1..4),
         prop::collection::vec(bdesc(), 1..3),
@@ -232,6 +232,18 @@ fn check_case<T: Flt>(c: &Case) -> Result<(), TestCaseError> {
                 b: make_blobs::<T>(c.iso, &c.b),
             };
             check_field(&u, c, "union (max of densities)")
+        }
+        4 => {
+            let r =
+                Ricci::new(T::from_f64(c.iso), T::TWO, a, make_blobs::<T>(c.iso, &c.b)).unwrap();
+            check_field(&r, c, "Ricci blend (n = 2)")
+        }
+        5 => {
+            let i = Intersection {
+                a,
+                b: make_blobs::<T>(c.iso, &c.b),
+            };
+            check_field(&i, c, "intersection (min of densities)")
         }
         _ => {
             let s = Sum {
