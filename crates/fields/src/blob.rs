@@ -367,8 +367,9 @@ impl<T: Real, S: AsRef<[PointBlob<T>]>> Blobs<T, S> {
         s
     }
 
-    /// Enclosures of `f(t₀)`, `f'(t₀)`, `f'` on `[t₀, t₁]` and (when
-    /// `second`) `f''` on `[t₀, t₁]`; `None` for an invalid interval.
+    /// Enclosures of `f(t₀)`, `f'(t₀)`, and `f'` on `[t₀, t₁]` (when not
+    /// `second`; else `0`) or `f''` on `[t₀, t₁]` (when `second`; else `0`);
+    /// `None` for an invalid interval.
     fn taylor_parts(&self, ray: &Ray<T>, t0: T, t1: T, second: bool) -> Option<[Interval<T>; 4]> {
         if !t0.is_finite() || !t1.is_finite() || t1 < t0 {
             return None;
@@ -386,10 +387,11 @@ impl<T: Real, S: AsRef<[PointBlob<T>]>> Blobs<T, S> {
             let u_range = Interval::new(r.u_min.lo(), r.u_max.hi());
             f0 = f0 + k.eval_u(r.u_t0) * w;
             df0 = df0 + k.d_u(r.u_t0) * r.du_t0 * w;
-            df = df + Self::slope_range(b, ray, &r, t0, t1, u_range) * w;
             if second {
                 let h = k.ray_curvature_range(r.u_min, r.u_max, r.e);
                 d2f = d2f + h * r.two_alpha * w;
+            } else {
+                df = df + Self::slope_range(b, ray, &r, t0, t1, u_range) * w;
             }
         }
         // f = iso − Σ.

@@ -464,9 +464,12 @@ impl<T: Real> Kernel<T> {
     }
 
     /// Sound enclosure of the range of `k'(d)` for `d ∈ [d0, d1]`
-    /// (`0 ≤ d0 ≤ d1`; `d1` may be `+∞`): the hull of `k'` at the ends and
+    /// (`0 ≤ d0 ≤ d1`; `d1` may be `+∞`): the hull of `k'` at the ends,
     /// over an enclosure of the critical point `σ·√u*` (module docs) when it
-    /// lies in the range. [`Interval::EMPTY`] for an invalid range.
+    /// lies in the range, and, for the compact kernel, of the limit from
+    /// inside at the support boundary `d = σ` (where `k'` jumps for
+    /// `n = 2`: the closure of the range). [`Interval::EMPTY`] for an
+    /// invalid range.
     pub fn derivative_range(&self, d0: T, d1: T) -> Interval<T> {
         let range = Interval::new(d0, d1);
         if range.is_empty() || d0 < T::ZERO {
@@ -475,6 +478,13 @@ impl<T: Real> Kernel<T> {
         let mut r = self
             .derivative_iv(Interval::point(d0))
             .hull(self.end_derivative(d1));
+        if self.kind == KernelKind::Compact && range.contains(self.sigma) {
+            // The limit from inside at the support boundary: k'(σ⁻) =
+            // (2/σ)·K'(1⁻), −2/σ for n = 2 (where k' jumps to 0), 0 else.
+            let one = Interval::point(T::ONE);
+            let edge = self.profile_inside(one, 1) * (Interval::point(T::TWO) / self.sigma);
+            r = r.hull(edge);
+        }
         if let Some(u) = self.d1_critical_u() {
             let dc = u.sqrt() * self.sigma;
             let dc = dc.intersection(range);
@@ -804,6 +814,18 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn compact_degree_two_slope_reaches_the_boundary_limit() {
+        let k = Kernel::compact(2, 1.0f64).unwrap();
+        let r = k.derivative_range(0.5, 2.0);
+        assert!(r.lo() <= -2.0 && r.hi() >= 0.0, "{r:?}");
+        assert!(k.derivative_range(0.5, 1.0).contains(-1.999));
+        assert!(k.max_slope().unwrap() >= 2.0);
+        let k3 = Kernel::compact(3, 2.0f64).unwrap();
+        let (m, d) = (k3.max_slope().unwrap(), 2.0 / 2f64.sqrt());
+        assert!(m >= k3.derivative(d).abs() && m < k3.derivative(d).abs() + 1e-12);
     }
 
     #[test]
