@@ -391,3 +391,28 @@ impl FlatBlobtree {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn deep_trees_drop_compare_and_count_iteratively() {
+        let s = || Node::primitive(Primitive::sphere([0.0f64, 0.0, 0.0], 1.0).unwrap());
+        let mut a = s();
+        let mut b = s();
+        for _ in 0..300_000 {
+            a = Node::op(Operator::union(), s(), a);
+            b = Node::op(Operator::union(), s(), b);
+        }
+        assert_eq!(a.node_count(), 600_001);
+        assert!(a == b);
+        // Too deep a right comb for the evaluation stack: refused.
+        assert!(matches!(
+            FlatBlobtree::from_node(&a),
+            Err(FieldError::TooLarge { .. })
+        ));
+        drop(a);
+        drop(b);
+    }
+}

@@ -430,3 +430,63 @@ impl<'a> BlobtreeRef<'a> {
         crate::operator::Operator::read_params(kind, self.node_params(i)?)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sdf::Primitive;
+
+    #[test]
+    fn node_word_layout() {
+        let w = NodeWord::primitive(PrimitiveKind::Torus, true, 12345);
+        assert_eq!(w.0 >> 31, 1);
+        assert_eq!((w.0 >> 30) & 1, 1);
+        assert_eq!((w.0 >> 22) & 0xff, PrimitiveKind::Torus as u32);
+        assert_eq!(w.0 & 0x3f_ffff, 12345);
+        assert_eq!(w.primitive_kind(), Some(PrimitiveKind::Torus));
+        assert!(w.operator_kind().is_none());
+        let w = NodeWord::operator(OperatorKind::CompactDifference, false, NO_ANCESTOR);
+        assert!(!w.is_leaf() && !w.is_left() && !w.has_ancestor() && !w.is_unary());
+        assert_eq!(w.ignore_mod(), 2);
+        assert_eq!(w.nodeop(), OperatorKind::CompactDifference as u32);
+        assert_eq!(w.class(), Some(OperatorClass::DifferenceLike));
+        for k in OperatorKind::ALL {
+            let w = NodeWord::operator(k, true, 7);
+            assert_eq!(w.operator_kind(), Some(k));
+            assert_eq!(w.class(), Some(k.class()));
+            assert_eq!(w.ancestor(), 7);
+        }
+    }
+
+    #[test]
+    fn hand_built_tree_validates() {
+        // union(sphere, sphere): nodes 0 (left), 1 (right), 2 (root).
+        let s = Primitive::sphere([0.0f32, 0.0, 0.0], 1.0).unwrap();
+        let v = s.kind().param_vec4s();
+        let mut params = [0.0f32; 64];
+        s.write_params(&mut params[..4 * v as usize]).unwrap();
+        s.write_params(&mut params[4 * v as usize..8 * v as usize])
+            .unwrap();
+        let nodes = [
+            NodeWord::primitive(s.kind(), true, 2).0,
+            0,
+            NodeWord::primitive(s.kind(), false, 2).0,
+            v,
+            NodeWord::operator(OperatorKind::Union, false, NO_ANCESTOR).0,
+            2 * v,
+        ];
+        let r = BlobtreeRef::new(&nodes, &params).unwrap();
+        assert_eq!(r.len(), 3);
+        assert_eq!(r.stack_need(), 2);
+        // Swapped isLeft bits, wrong ancestor, out-of-range offset.
+        let mut bad = nodes;
+        bad[0] = NodeWord::primitive(s.kind(), false, 2).0;
+        assert!(BlobtreeRef::new(&bad, &params).is_err());
+        let mut bad = nodes;
+        bad[0] = NodeWord::primitive(s.kind(), true, 1).0;
+        assert!(BlobtreeRef::new(&bad, &params).is_err());
+        let mut bad = nodes;
+        bad[3] = 1000;
+        assert!(BlobtreeRef::new(&bad, &params).is_err());
+    }
+}

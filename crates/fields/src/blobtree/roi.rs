@@ -145,3 +145,37 @@ impl FlatBlobtree {
             .collect()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::blobtree::Node;
+    use crate::sdf::Primitive;
+
+    #[test]
+    fn abvs_follow_rois() {
+        let s = |x: f64| Node::primitive(Primitive::sphere([x, 0.0, 0.0], 0.5).unwrap());
+        let cu = Operator::compact_union(0.2, 0.25).unwrap();
+        let ci = Operator::compact_intersection(0.2, 0.25).unwrap();
+        // ci(cu(s0, s1), s2): the union's operands get r⁺ = 0.25, the
+        // intersection's right operand keeps r⁺ = 0.
+        let tree = Node::op(ci, Node::op(cu, s(0.0), s(5.0)), s(0.2));
+        let flat = FlatBlobtree::from_node(&tree).unwrap();
+        let rois = flat.rois::<f64>();
+        assert_eq!(rois[4], Roi::root());
+        assert_eq!(rois[3], Roi { lo: -0.25, hi: 0.0 });
+        assert_eq!(rois[2], Roi { lo: -0.25, hi: 0.0 });
+        assert_eq!(
+            rois[0],
+            Roi {
+                lo: -0.25,
+                hi: 0.25
+            }
+        );
+        let abvs = flat.abvs::<f64>();
+        assert_eq!(abvs.len(), 3);
+        let q = Aabb::new([4.0, -0.1, -0.1], [4.3, 0.1, 0.1]);
+        // Only s1 (at x = 5, radius 0.5 + 0.25) reaches the box.
+        assert_eq!(FlatBlobtree::active_in_box(&abvs, &q), [1]);
+    }
+}

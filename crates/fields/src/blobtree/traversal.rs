@@ -241,3 +241,89 @@ pub fn sparse_traverse<V: SparseVisitor>(
     }
     Ok(root_present)
 }
+
+#[cfg(all(test, feature = "alloc"))]
+mod tests {
+    use super::*;
+    use crate::blobtree::{FlatBlobtree, Node};
+    use crate::operator::Operator;
+    use crate::sdf::Primitive;
+    use alloc::vec::Vec;
+
+    struct Program(Vec<u32>);
+    impl SparseVisitor for Program {
+        fn primitive(&mut self, node: u32) -> Result<(), FieldError> {
+            self.0.push(node);
+            Ok(())
+        }
+        fn operator(&mut self, node: u32) -> Result<(), FieldError> {
+            self.0.push(node);
+            Ok(())
+        }
+        fn kill(&mut self, emitted: u32) -> Result<(), FieldError> {
+            self.0.truncate(emitted as usize);
+            Ok(())
+        }
+    }
+
+    fn s(x: f64) -> Node<f64> {
+        Node::primitive(Primitive::sphere([x, 0.0, 0.0], 0.5).unwrap())
+    }
+
+    #[test]
+    fn selectors_per_class() {
+        // op(op2(s0, s1), s2): post-order 0, 1, 2 = op2, 3, 4 = root.
+        let cases = [
+            // (root, inner, active, expected program, root present)
+            (
+                Operator::union(),
+                Operator::union(),
+                &[0u32, 3][..],
+                &[0u32, 3, 4][..],
+                true,
+            ),
+            (
+                Operator::union(),
+                Operator::intersection(),
+                &[0, 3],
+                &[3],
+                true,
+            ),
+            (
+                Operator::union(),
+                Operator::difference(),
+                &[0, 3],
+                &[0, 3, 4],
+                true,
+            ),
+            (
+                Operator::union(),
+                Operator::difference(),
+                &[1, 3],
+                &[3],
+                true,
+            ),
+            (
+                Operator::intersection(),
+                Operator::union(),
+                &[3],
+                &[],
+                false,
+            ),
+            (Operator::difference(), Operator::union(), &[1], &[1], true),
+            (Operator::difference(), Operator::union(), &[3], &[], false),
+            (Operator::union(), Operator::union(), &[], &[], false),
+        ];
+        for (root, inner, active, want, present) in cases {
+            let tree = Node::op(root, Node::op(inner, s(0.0), s(1.0)), s(2.0));
+            let flat = FlatBlobtree::from_node(&tree).unwrap();
+            let mut prog = Program(Vec::new());
+            let got = sparse_traverse(&flat.as_ref(), active, &mut prog).unwrap();
+            assert_eq!(
+                (got, &prog.0[..]),
+                (present, want),
+                "{root:?} {inner:?} {active:?}"
+            );
+        }
+    }
+}

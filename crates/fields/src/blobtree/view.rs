@@ -291,3 +291,35 @@ impl<T: Real, const V: usize, const D: usize, const S: usize> Field<T> for Prune
         self.lipschitz_bound()
     }
 }
+
+#[cfg(all(test, feature = "alloc"))]
+mod tests {
+    use super::*;
+    use crate::blobtree::{FlatBlobtree, Node};
+    use crate::operator::Operator;
+    use crate::sdf::Primitive;
+
+    #[test]
+    fn view_matches_full_tree_when_all_active() {
+        let s = |x: f64| Node::primitive(Primitive::sphere([x, 0.2, 0.0], 0.6).unwrap());
+        let u = Operator::compact_union(0.3, 0.4).unwrap();
+        let d = Operator::compact_difference(0.2, 0.3).unwrap();
+        let tree = Node::op(d, Node::op(u, s(0.0), s(0.9)), Node::op(u, s(0.5), s(3.0)));
+        let flat = FlatBlobtree::from_node(&tree).unwrap();
+        let all = flat.primitive_indices();
+        let view: DefaultPrunedView = DefaultPrunedView::build(flat.as_ref(), &all).unwrap();
+        assert_eq!(view.len(), flat.len());
+        assert_eq!(view.uncached_nodes(), 0);
+        for k in 0..50 {
+            let p = [k as f64 * 0.1 - 1.0, 0.1, -0.05];
+            let a: f64 = flat.as_ref().eval(p);
+            let b: f64 = view.eval(p);
+            assert_eq!(a, b);
+        }
+        // No active primitive: +∞, empty view.
+        let empty: DefaultPrunedView = DefaultPrunedView::build(flat.as_ref(), &[]).unwrap();
+        assert!(empty.is_empty() && !empty.root_present());
+        let v: f64 = empty.eval([0.0; 3]);
+        assert_eq!(v, f64::INFINITY);
+    }
+}
