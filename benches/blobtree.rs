@@ -15,6 +15,12 @@
 //!
 //! Run with `cargo bench --bench blobtree`; compare lines of one group as
 //! ratios.
+//!
+//! Measured once (release, shared 2-core container, noisy): linearization
+//! of 10⁵ primitives ≈ 29 ms, ROI + ABVs ≈ 15 ms, active set of a box
+//! ≈ 2.2 ms. With ~12 active primitives, `full / sparse` ≈ 7× (n = 10,
+//! 1 active), 6× (10²), 56× (10³), 500× (10⁴); `full / view` ≈ 12×, 8×,
+//! 85×, 860×; building a view ≈ 1.2 µs.
 
 use boundtrace::fields::blobtree::{BlobtreeRef, DefaultPrunedView, FlatBlobtree, Node};
 use boundtrace::fields::bounding::Aabb;

@@ -503,7 +503,16 @@ proptest! {
         let again = FlatBlobtree::from_node(&back).unwrap();
         prop_assert_eq!(&again, &flat);
         let (nodes, params) = flat.clone().into_raw();
-        prop_assert_eq!(FlatBlobtree::from_raw(nodes, params).unwrap(), flat);
+        prop_assert_eq!(FlatBlobtree::from_raw(nodes, params).unwrap(), flat.clone());
+        // Reordering symmetric operands: same field, no more stack.
+        let re = FlatBlobtree::from_node_reordered(&tree).unwrap();
+        prop_assert!(re.stack_need() <= flat.stack_need());
+        for _ in 0..4 {
+            let p = [rng.f(-5.0, 5.0) as f32, rng.f(-5.0, 5.0) as f32, rng.f(-5.0, 5.0) as f32];
+            let a: f32 = flat.as_ref().eval(p);
+            let b: f32 = re.as_ref().eval(p);
+            prop_assert!(a == b || (a.is_nan() && b.is_nan()), "{} vs {}", a, b);
+        }
     }
 
     /// The fast-ancestor sparse traversal visits exactly the active nodes

@@ -7,6 +7,7 @@ use super::encoding::{BlobtreeRef, MAX_NODES, NO_ANCESTOR, NodeWord, passes};
 use crate::FieldError;
 use crate::operator::Operator;
 use crate::sdf::Primitive;
+use alloc::collections::BTreeMap;
 use alloc::vec;
 use alloc::vec::Vec;
 use boundtrace_ia_core::Real;
@@ -110,21 +111,62 @@ impl<T: Real> Node<T> {
 
     /// The nodes in post-order (iterative).
     pub fn post_order(&self) -> Vec<&Node<T>> {
+        self.post_order_with(|_| false)
+    }
+
+    /// Post-order where the operands of the nodes for which `swap` holds
+    /// are visited right first.
+    fn post_order_with(&self, swap: impl Fn(&Node<T>) -> bool) -> Vec<&Node<T>> {
         let mut out = Vec::new();
         // (node, children pushed)
         let mut stack = vec![(self, false)];
         while let Some((n, expanded)) = stack.pop() {
             match n.as_operator() {
                 Some((_, l, r)) if !expanded => {
+                    let (first, second) = if swap(n) { (r, l) } else { (l, r) };
                     stack.push((n, true));
-                    stack.push((r, false));
-                    stack.push((l, false));
+                    stack.push((second, false));
+                    stack.push((first, false));
                 }
                 _ => out.push(n),
             }
         }
         out
     }
+
+    /// The evaluation stack need of every node, keyed by address, when the
+    /// operands of symmetric operators are ordered larger-need first
+    /// (Sethi–Ullman; iterative).
+    fn stack_needs(&self) -> BTreeMap<usize, u32> {
+        let mut needs: BTreeMap<usize, u32> = BTreeMap::new();
+        for n in self.post_order() {
+            let v = match n.as_operator() {
+                None => 1,
+                Some((op, l, r)) => {
+                    let get = |c: &Node<T>| {
+                        needs
+                            .get(&(c as *const Node<T> as usize))
+                            .copied()
+                            .unwrap_or(1)
+                    };
+                    let (a, b): (u32, u32) = (get(l), get(r));
+                    if swappable(op) {
+                        a.max(b).max(a.min(b) + 1)
+                    } else {
+                        a.max(b + 1)
+                    }
+                }
+            };
+            needs.insert(n as *const Node<T> as usize, v);
+        }
+        needs
+    }
+}
+
+/// Whether the operator is symmetric in its operands (union- and
+/// intersection-like: CSG, smooth and compact).
+fn swappable<T: Real>(op: &Operator<T>) -> bool {
+    op.kind().class() != crate::operator::OperatorClass::DifferenceLike
 }
 
 impl<T: Real> PartialEq for Node<T> {
@@ -193,6 +235,21 @@ impl FlatBlobtree {
     /// subtrees on the left); [`FieldError::InvalidParameter`] when a
     /// parameter does not fit `f32`.
     pub fn from_node<T: Real>(root: &Node<T>) -> Result<Self, FieldError> {
+        Self::linearize(root, |_| false)
+    }
+
+    /// As [`from_node`](Self::from_node), but the operands of union- and
+    /// intersection-like operators (symmetric in `f₀, f₁`: CSG, smooth and
+    /// compact) are swapped where that lowers the evaluation stack
+    /// (Sethi–Ullman order: the operand needing more stack first; paper §7
+    /// rebalances right-heavy trees the same way). The field is unchanged;
+    /// the flat operand order may differ from the builder's. With only
+    /// symmetric operators the need is at most `⌊log₂ n⌋ + 1` for `n`
+    /// primitives, so right combs of any length fit.
+    ///
+    /// # Errors
+    /// As [`from_node`](Self::from_node).
+    pub fn from_node_reordered<T: Real>(root: &Node<T>) -> Result<Self, FieldError> {
         let count = root.node_count();
         if count > MAX_NODES {
             return Err(FieldError::TooLarge {
@@ -201,7 +258,32 @@ impl FlatBlobtree {
                 max: MAX_NODES,
             });
         }
-        let order = root.post_order();
+        let needs = root.stack_needs();
+        let need = |n: &Node<T>| {
+            needs
+                .get(&(n as *const Node<T> as usize))
+                .copied()
+                .unwrap_or(0)
+        };
+        Self::linearize(root, |n| match n.as_operator() {
+            Some((op, l, r)) => swappable(op) && need(r) > need(l),
+            None => false,
+        })
+    }
+
+    fn linearize<T: Real>(
+        root: &Node<T>,
+        swap: impl Fn(&Node<T>) -> bool,
+    ) -> Result<Self, FieldError> {
+        let count = root.node_count();
+        if count > MAX_NODES {
+            return Err(FieldError::TooLarge {
+                what: "blobtree nodes",
+                count,
+                max: MAX_NODES,
+            });
+        }
+        let order = root.post_order_with(swap);
         let n = order.len();
         let mut words: Vec<NodeWord> = Vec::with_capacity(n);
         let mut offsets: Vec<u32> = Vec::with_capacity(n);
@@ -412,6 +494,9 @@ mod tests {
             FlatBlobtree::from_node(&a),
             Err(FieldError::TooLarge { .. })
         ));
+        // Reordered (Sethi–Ullman), it is a left comb.
+        let flat = FlatBlobtree::from_node_reordered(&a).unwrap();
+        assert_eq!(flat.stack_need(), 2);
         drop(a);
         drop(b);
     }

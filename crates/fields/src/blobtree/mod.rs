@@ -10,7 +10,7 @@
 //! | item | what | paper |
 //! | --- | --- | --- |
 //! | [`Node`] (`alloc`) | nested builder tree | §5 |
-//! | [`FlatBlobtree`] (`alloc`) | iterative linearization, decoding | §5, §7 |
+//! | [`FlatBlobtree`] (`alloc`) | iterative linearization (optionally with Sethi–Ullman operand order), decoding | §5, §7 |
 //! | [`BlobtreeRef`] | validated borrowed flat data, evaluated on CPU/GPU | §7 |
 //! | [`NodeWord`] | `isLeaf(1) isLeft(1) type(8) ancestor(22)` | §7 |
 //! | [`Roi`], [`Abv`] (`alloc`) | ROI propagation, ABVs, active sets | §4, eqs. 13–16 |
