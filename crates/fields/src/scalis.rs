@@ -1,1 +1,893 @@
-//! (in progress)
+//! SCALIS segments: scale-invariant integral surfaces of line segments with
+//! linearly varying radius (thesis Part II eq. 1.14), in closed form, their
+//! normalization `g(f) − 1` (Part III ch. 1 §1.2) and per-primitive bounds
+//! (Part III ch. 2 §2.1).
+//!
+//! # The field
+//!
+//! For a [`Segment`] `q(s) = a + s·u`, `τ(s) = r_a + Δ·s`, `s ∈ [0, L]`, and
+//! a kernel `k` of the homothetic distance `h = |p − q|/τ`,
+//!
+//! ```text
+//! f(p) = 1/N_{k,c} · ∫₀ᴸ k(|p − q(s)| / τ(s)) / τ(s) ds          (eq. 1.14)
+//! ```
+//!
+//! We centre the parameter on the segment's midpoint: `y = s − L/2 ∈ [−ℓ, ℓ]`
+//! (`ℓ = L/2`), `τ(y) = τ_c + Δ·y` with `τ_c = (r_a + r_b)/2`. With
+//! `x_c` the axial coordinate of `p` from the midpoint and `d²` its squared
+//! distance to the segment's line, `|p − q(y)|² = (y − x_c)² + d²`.
+//!
+//! ## Compact polynomial kernel, even degree `n = 2m ∈ {2, 4, 6, 8}`
+//!
+//! `k(h) = (1 − h²/σ²)^m` for `h < σ`. Then
+//! `k(h)/τ = P(y)^m / (σ^{2m} τ^{2m+1})` with the **quadratic**
+//!
+//! ```text
+//! P(y) = σ²τ(y)² − (y − x_c)² − d² = A·y² + B·y + C,
+//! A = σ²Δ² − 1,  B = 2σ²τ_cΔ + 2x_c,  C = σ²τ_c² − x_c² − d².
+//! ```
+//!
+//! *Clipping.* The integrand is non-zero where `P > 0`. Since
+//! `στ(y) − |p − q(y)|` is concave in `y` and `τ > 0` on the segment, the set
+//! `{P ≥ 0} ∩ [−ℓ, ℓ]` is one interval. We require `σ·|Δ| < 1` (the support
+//! ball of one end-point does not swallow the other: the thesis' "bounded
+//! radius variation", Part III §1.5), so `A < 0` and that interval is
+//! `[y₀, y₁] = [max(r₋, −ℓ), max(min(r₊, ℓ), y₀)]` with the roots
+//! `r∓ = (−B ± √max(B² − 4AC, 0)) / (2A)`; an empty support gives `y₀ = y₁`
+//! and a zero integral, with no branch on `p`. (Root accuracy barely matters:
+//! the integrand vanishes to order `m` at the roots.)
+//!
+//! *Integration.* `I = ∫_{y₀}^{y₁} P(y)^m / τ(y)^{2m+1} dy`, a rational
+//! integrand with its only pole at the apex `τ = 0`, outside the segment.
+//! Two exact-in-real-arithmetic evaluations, chosen once per primitive by
+//! the relative radius variation `ρ = |Δ|ℓ/τ_c = |r_b − r_a|/(r_a + r_b)`:
+//!
+//! - **`ρ > 1/4` — partial fractions in `τ`.** Substituting `y = (τ − τ_c)/Δ`
+//!   turns `P^m` into `Σᵢ cᵢ τⁱ` (`i ≤ 2m`), and
+//!   `I = 1/Δ · [Σ_{i<2m} cᵢ τ^{i−2m}/(i−2m) + c_{2m} ln τ]_{τ₀}^{τ₁}`.
+//!   The coefficients grow like `Δ^{−2m}` and cancel as `Δ → 0`, which is
+//!   why this form is kept for large variations only.
+//! - **`ρ ≤ 1/4` — binomial series.** `τ^{−e} = τ_c^{−e} (1 + εy)^{−e}` with
+//!   `ε = Δ/τ_c`, `|εy| ≤ ρ`, so
+//!   `τ^{−e} = τ_c^{−e} Σ_k C(k+e−1, e−1) (−ε)^k y^k`, and `I` is the exact
+//!   integral of a polynomial. The series is truncated at the first `K`
+//!   (≤ 63) whose tail, together with the rounding of the coefficients, is
+//!   below `δ ≈ 10⁻³ ε_mach` relative (the tail is bounded by
+//!   `Σ_{k>K} C(k+e−1,e−1) ρ^k`, and since `P^m ≥ 0`, relative to `I` after a
+//!   factor `(1+ρ)^e`). The result is widened by `±2δ` relative through
+//!   [`FieldNum::join`], so bottom-up bounds stay sound.
+//!
+//! The gradient differentiates under the integral (the boundary terms vanish:
+//! `P = 0` at a clipped end, the segment ends are fixed):
+//! `∇f = −2m/(N σ^{2m}) · [(p − c)·∫P^{m−1}/τ^e − u·∫y P^{m−1}/τ^e]`, `c` the
+//! midpoint — two more integrals of the same kind.
+//!
+//! *Normalization.* For an infinite line of constant radius `τ₀`,
+//! `∫ k/τ₀ ds = σ·c_m·(1 − D²/σ²)^{m+½}` with `D = d/τ₀` and
+//! `c_m = ∫₋₁¹(1 − v²)^m dv = 2^{2m+1}(m!)²/(2m+1)!` (`32/35` for `m = 3`),
+//! i.e. a compact kernel of degree `n + 1` (Part III eq. 1.1). Choosing
+//! `N_{k,c} = σ c_m (1 − 1/σ²)^{m+½} / c` puts the iso-value `c` at `D = 1`
+//! (needs `σ > 1`), and inverting gives Part III eq. 1.3:
+//! `g(f) = σ²(1 − (1 − 1/σ²)(f/c)^{2/(n+1)})`, `g = σ²` for `f ≤ 0`.
+//!
+//! ## Cauchy kernel, degree 3
+//!
+//! `k(h) = (1 + h²/σ²)^{−3/2}`, so `k/τ = σ³τ² / R(y)^{3/2}` with
+//! `R = σ²τ² + (y − x_c)² + d² = a(v² + e²)`, `a = σ²Δ² + 1`,
+//! `v = y + b/(2a)`, `b = 2σ²τ_cΔ − 2x_c`, and — without cancellation —
+//! `a²e² = σ²τ_x² + a·d²`, `τ_x = τ_c + Δx_c` the radius at the projection
+//! of `p`. With `τ = τ_v + Δv` (`τ_v = τ_c − Δb/(2a)`) and
+//! `r = √(v² + e²)`, the three primitives
+//!
+//! ```text
+//! ∫ dv/r³ = v/(e²r),   ∫ v dv/r³ = −1/r,   ∫ v² dv/r³ = asinh(v/e) − v/r
+//! ```
+//!
+//! are evaluated as differences in stable forms: `[−1/r] = (v₁² − v₀²) /
+//! (r₀r₁(r₀ + r₁))`; `[v/(e²r)] = (v₁² − v₀²)/(r₀r₁(v₁r₀ + v₀r₁))` when `v₀`,
+//! `v₁` have the same sign (the direct form otherwise, where no cancellation
+//! occurs); `[asinh(v/e)] = ln((v₁ + r₁)/(v₀ + r₀))` for `v ≥ 0`, its mirror
+//! for `v ≤ 0` and `ln((v₁ + r₁)(r₀ − v₀)/e²)` across `0`. The branch is
+//! decided from [`FieldNum::enclosure`]; when undecided both (equal)
+//! expressions are [`FieldNum::join`]ed. Only degree 3 is offered: even
+//! degrees need `atan`, which [`FieldNum`] lacks. For an infinite line
+//! `∫ k/τ₀ ds = 2σ/(1 + D²/σ²)` (a Cauchy kernel of degree 2), so
+//! `N = 2σ³/((1 + σ²)c)` and `g(f) = (1 + σ²)c/f − σ²` (eq. 1.4).
+//!
+//! # Per-primitive bounds (ch. 2 §2.1)
+//!
+//! [`ScalisSegment::directional_lipschitz`] bounds `|d f(o + t·d)/dt|` on
+//! `[t₀, t₁]` by `|d|/N · max|k'| · ∫_{s₀}^{s₁} ds/τ(s)²` (`|∂h/∂t| ≤
+//! |d|/τ`), where `[s₀, s₁]` are the skeleton points whose support can reach
+//! the ray segment (all of `[0, L]` for Cauchy) and
+//! `∫ ds/τ² = (s₁ − s₀)/(τ(s₀)τ(s₁))` exactly. `max|k'|` is
+//! `2m·h*(1 − h*²/σ²)^{m−1}/σ²` at `h*² = σ²/(2m−1)` (compact) and
+//! `3·(1/(2σ))·(4/5)^{5/2}` at `h* = σ/2` (Cauchy, thesis §2.1.1).
+//! [`ScalisSegment::density_range`] combines sound end-point values
+//! (interval evaluation at the points), a sound enclosure of the derivative
+//! on the whole interval (the closed-form gradient evaluated in interval
+//! arithmetic, compact kernel) — a fixed sign is a *monotone interval* — and
+//! the two Lipschitz lines of Fig. 2.2 for ambiguous intervals.
+//! The thesis detects monotony from the derivative signs at the interval
+//! end-points alone, relying on the observation that the field is
+//! unimodal along rays; that is not proven for varying radii, so it is
+//! offered separately as [`ScalisSegment::density_range_unimodal`] with a
+//! warning.
+
+use crate::FieldError;
+use crate::bounding::SphereCone;
+use crate::homothetic::{Plain, Segment, SegmentKernel};
+use boundtrace_ia_core::{Interval, Real};
+use boundtrace_inclusion::{Field, FieldNum, ForwardLinear, Ray};
+
+/// Highest supported compact half-degree `m` (degree `n = 2m ≤ 8`).
+const MAX_M: usize = 4;
+/// Coefficients of polynomials of degree ≤ 2·MAX_M.
+const NC: usize = 2 * MAX_M + 1;
+/// Most series terms.
+const MAX_TERMS: usize = 64;
+/// Relative radius variation above which the partial-fraction form is used.
+const SERIES_LIMIT: f64 = 0.25;
+
+/// A SCALIS segment primitive (thesis eq. 1.14) with a compact polynomial
+/// (even degree 2–8) or Cauchy (degree 3) kernel, normalized so that an
+/// isolated long segment of constant radius `r` has its iso-surface
+/// `f = iso` at distance `r` from the skeleton.
+///
+/// As a [`Field`] it is `iso − f(p)` (positive outside). The density itself
+/// is [`density`](Self::density); the normalized field `g(f) − 1` is
+/// [`ScalisSegment::normalized`] / [`Normalized`].
+///
+/// ```
+/// use boundtrace_fields::homothetic::{Segment, SegmentKernel};
+/// use boundtrace_fields::scalis::ScalisSegment;
+/// use boundtrace_inclusion::{Field, FieldNum};
+///
+/// let seg = Segment::new([-50.0, 0.0, 0.0], 1.0, [50.0, 0.0, 0.0], 1.0).unwrap();
+/// let k = SegmentKernel::compact_polynomial(6, 2.0).unwrap();
+/// let s = ScalisSegment::new(seg, k, 1.0).unwrap();
+/// // on the prescribed radius in the middle of a long segment: f = iso
+/// assert!((s.density([0.0, 1.0, 0.0]) - 1.0f64).abs() < 1e-12);
+/// assert!(s.eval([0.0, 1.5, 0.0]) > 0.0); // outside
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ScalisSegment<T> {
+    seg: Segment<T>,
+    kernel: SegmentKernel<T>,
+    iso: T,
+    /// Half-degree `m` (compact) or `0` (Cauchy).
+    m: u32,
+    sigma: T,
+    half: T,
+    tc: T,
+    delta: T,
+    /// Density scale: `1/(N σ^{2m})` (compact), `(1 + σ²)c/2` (Cauchy).
+    scale: T,
+    /// Series terms `K + 1` (`0`: partial fractions).
+    terms: u32,
+    /// `τ_c^{−e} C(k+e−1, e−1) (−Δ/τ_c)^k`.
+    beta: [T; MAX_TERMS],
+    /// Relative widening `2δ` of the series.
+    tol: T,
+    /// `max |k'|`.
+    kprime_max: T,
+    /// `1/N`.
+    inv_norm: T,
+}
+
+fn binom(n: u32, k: u32) -> f64 {
+    let mut r = 1.0f64;
+    let mut i = 0;
+    while i < k {
+        r = r * f64::from(n - i) / f64::from(i + 1);
+        i += 1;
+    }
+    r
+}
+
+impl<T: Real> ScalisSegment<T> {
+    /// The SCALIS primitive of `segment` with `kernel`, normalized for the
+    /// iso-value `iso > 0`.
+    ///
+    /// # Errors
+    ///
+    /// [`FieldError::InvalidParameter`] for: a compact kernel of degree
+    /// other than 2, 4, 6, 8, or with `σ ≤ 1` (the iso-surface would leave
+    /// the support), or with `σ·|r_b − r_a| ≥ L` (one end's support swallows
+    /// the other's); a Cauchy kernel of degree other than 3 (the others need
+    /// `atan`); a NaN/infinite/non-positive `iso`.
+    pub fn new(segment: Segment<T>, kernel: SegmentKernel<T>, iso: T) -> Result<Self, FieldError> {
+        let iso = crate::error::positive("iso", iso)?;
+        let sigma = kernel.sigma();
+        let half = segment.length() * T::HALF;
+        let tc = (segment.ra() + segment.rb()) * T::HALF;
+        let delta = segment.radius_slope();
+        let (sf, isof, tcf, df, hf) = (
+            sigma.as_f64(),
+            iso.as_f64(),
+            tc.as_f64(),
+            delta.as_f64(),
+            half.as_f64(),
+        );
+        let mut out = Self {
+            seg: segment,
+            kernel,
+            iso,
+            m: 0,
+            sigma,
+            half,
+            tc,
+            delta,
+            scale: T::ZERO,
+            terms: 0,
+            beta: [T::ZERO; MAX_TERMS],
+            tol: T::ZERO,
+            kprime_max: T::ZERO,
+            inv_norm: T::ZERO,
+        };
+        match kernel {
+            SegmentKernel::CompactPolynomial { degree, .. } => {
+                if degree % 2 != 0 || degree < 2 || degree as usize > 2 * MAX_M {
+                    return Err(FieldError::InvalidParameter {
+                        name: "degree",
+                        reason: "SCALIS compact kernels support the even degrees 2, 4, 6, 8",
+                    });
+                }
+                if !(sigma > T::ONE) {
+                    return Err(FieldError::InvalidParameter {
+                        name: "sigma",
+                        reason: "a compact SCALIS kernel needs σ > 1",
+                    });
+                }
+                if !(sigma * delta.abs() < T::ONE) || !(sf * df.abs() < 1.0 - 1e-9) {
+                    return Err(FieldError::InvalidParameter {
+                        name: "rb",
+                        reason: "radius variation too steep for the kernel scale: need σ·|rb − ra| < L",
+                    });
+                }
+                let m = degree / 2;
+                out.m = m;
+                let mf = f64::from(m);
+                let mut cm = 2f64.powi(2 * m as i32 + 1);
+                let mut i = 1;
+                while i <= m {
+                    cm *= f64::from(i) * f64::from(i);
+                    i += 1;
+                }
+                let mut i = 1;
+                while i <= 2 * m + 1 {
+                    cm /= f64::from(i);
+                    i += 1;
+                }
+                let norm = sf * cm * (1.0 - 1.0 / (sf * sf)).powf(mf + 0.5) / isof;
+                out.inv_norm = T::from_f64(1.0 / norm);
+                out.scale = T::from_f64(1.0 / (norm * sf.powi(2 * m as i32)));
+                // max |k'(h)| = 2m h (1 − h²/σ²)^{m−1} / σ² at h² = σ²/(2m − 1)
+                let h2 = sf * sf / (2.0 * mf - 1.0);
+                out.kprime_max = T::from_f64(
+                    2.0 * mf * h2.sqrt() * (1.0 - h2 / (sf * sf)).powf(mf - 1.0) / (sf * sf)
+                        * (1.0 + 1e-12),
+                );
+                // series terms for |q| ≤ ρ* (module docs)
+                let rho = SERIES_LIMIT;
+                let e = 2 * m + 1;
+                let target = T::EPSILON.as_f64() * 1e-3;
+                let grow_e = (1.0 + rho).powi(e as i32);
+                let mut k = 0u32;
+                while (k as usize) + 1 < MAX_TERMS {
+                    // tail Σ_{j>k} C(j+e−1, e−1) ρ^j ≤ next/(1 − ratio): the
+                    // term ratios ρ(j+e)/(j+1) decrease with j
+                    let next = binom(k + e, e - 1) * rho.powi(k as i32 + 1);
+                    let ratio = rho * f64::from(k + 1 + e) / f64::from(k + 2);
+                    let tail = next / (1.0 - ratio);
+                    if ratio < 1.0 && tail * grow_e <= target {
+                        let round = 8.0 * f64::from(k + 3 + e) * T::EPSILON.as_f64();
+                        let delta_rel = (tail + round * (1.0 - rho).powi(-(e as i32))) * grow_e;
+                        out.tol = T::from_f64(2.0 * delta_rel * 1.01);
+                        break;
+                    }
+                    k += 1;
+                }
+                out.terms = k + 1;
+                let mut j = 0u32;
+                while j <= k {
+                    out.beta[j as usize] = T::from_f64(binom(j + e - 1, e - 1));
+                    j += 1;
+                }
+                let _ = (tcf, df, hf);
+            }
+            SegmentKernel::Cauchy { degree, .. } => {
+                if degree != 3 {
+                    return Err(FieldError::InvalidParameter {
+                        name: "degree",
+                        reason: "SCALIS Cauchy kernels support degree 3 only (others need atan)",
+                    });
+                }
+                let norm = 2.0 * sf * sf * sf / ((1.0 + sf * sf) * isof);
+                out.inv_norm = T::from_f64(1.0 / norm);
+                out.scale = T::from_f64((1.0 + sf * sf) * isof / 2.0);
+                out.kprime_max = T::from_f64(1.5 / sf * 0.8f64.powf(2.5) * (1.0 + 1e-12));
+            }
+        }
+        Ok(out)
+    }
+
+    /// The skeleton segment.
+    #[inline]
+    pub fn segment(&self) -> &Segment<T> {
+        &self.seg
+    }
+    /// The kernel.
+    #[inline]
+    pub fn kernel(&self) -> SegmentKernel<T> {
+        self.kernel
+    }
+    /// The iso-value `c`.
+    #[inline]
+    pub fn iso(&self) -> T {
+        self.iso
+    }
+    /// `1/N_{k,c}` (eq. 1.14).
+    #[inline]
+    pub fn inv_normalization(&self) -> T {
+        self.inv_norm
+    }
+    /// The density `f(p)` of eq. 1.14 (≥ 0), in any number type.
+    pub fn density<N: FieldNum<T>>(&self, p: [N; 3]) -> N {
+        let (x, d2) = self.seg.axial(p);
+        let xc = x - self.half;
+        if self.m == 0 {
+            self.cauchy(xc, d2)
+        } else {
+            let (poly, y0, y1) = self.clip(xc, d2);
+            self.integrate(&poly, self.m, false, y0, y1) * self.scale
+        }
+    }
+
+    /// `P(y)` as coefficients `[C, B, A]` and the clipped support `[y₀, y₁]`.
+    fn clip<N: FieldNum<T>>(&self, xc: N, d2: N) -> ([N; 3], N, N) {
+        let s2 = self.sigma * self.sigma;
+        let a = s2 * self.delta * self.delta - T::ONE;
+        let b = xc * T::TWO + T::TWO * s2 * self.tc * self.delta;
+        let c = -(xc.sqr() + d2) + s2 * self.tc * self.tc;
+        let disc = (b.sqr() - c * (T::from_f64(4.0) * a)).max(N::constant(T::ZERO));
+        let sq = disc.sqrt();
+        let lo = (-b + sq) / (T::TWO * a);
+        let hi = (-b - sq) / (T::TWO * a);
+        let (mh, h) = (N::constant(-self.half), N::constant(self.half));
+        let y0 = lo.max(mh).min(h);
+        let y1 = hi.min(h).max(y0);
+        ([c, b, N::constant(a)], y0, y1)
+    }
+
+    /// `∫_{y₀}^{y₁} z^{zf}·P(y)^{pw} / τ(y)^{2m+1} dy` with `z = y − y_m`,
+    /// `y_m = (y₀ + y₁)/2`, `P` the quadratic `[C, B, A]` in `y`: the
+    /// centred binomial series when `|q| = |Δ|·w/τ_m ≤ ρ*`, partial
+    /// fractions otherwise (both, joined, when the enclosure of `|q|`
+    /// straddles `ρ*`). `P` is re-centred on `y_m` *before* it is raised to
+    /// the power, which avoids the cancellation of expanding `P^m` far from
+    /// its support.
+    fn integrate<N: FieldNum<T>>(&self, base: &[N; 3], pw: u32, zf: bool, y0: N, y1: N) -> N {
+        let zero = N::constant(T::ZERO);
+        let ym = (y0 + y1) * T::HALF;
+        let w = (y1 - y0) * T::HALF;
+        let tm = ym * self.delta + self.tc;
+        // P(y_m + z) = A z² + (2A y_m + B) z + P(y_m)
+        let a = base[2];
+        let shifted = [
+            (a * ym + base[1]) * ym + base[0],
+            a * ym * T::TWO + base[1],
+            a,
+        ];
+        let mut poly = [zero; NC];
+        let mut deg = power(&shifted, pw, &mut poly);
+        if zf {
+            let mut i = deg + 1;
+            while i > 0 {
+                if i < NC {
+                    poly[i] = poly[i - 1];
+                }
+                i -= 1;
+            }
+            poly[0] = zero;
+            deg += 1;
+        }
+        let q = w * self.delta / tm;
+        let qa = q.abs().enclosure();
+        let lim = T::from_f64(SERIES_LIMIT);
+        if qa.hi() <= lim {
+            self.integrate_series(&poly, deg, w, tm, q)
+        } else if qa.lo() > lim {
+            self.integrate_fractions(&poly, deg, w, tm)
+        } else {
+            self.integrate_series(&poly, deg, w, tm, q)
+                .join(self.integrate_fractions(&poly, deg, w, tm))
+        }
+    }
+
+    /// Centred series (`poly` in `z = y − y_m ∈ [−w, w]`):
+    /// `τ^{−e} = τ_m^{−e} Σ_k C(k+e−1, e−1) (−Δz/τ_m)^k`, and
+    /// `∫_{−w}^{w} z^n dz = 2w^{n+1}/(n+1)` for even `n` (0 for odd):
+    /// `I = 2τ_m^{−e} Σ_j π_j w^{j+1} Σ_{k ≡ j (2)} C(k+e−1,e−1) q^k/(j+k+1)`
+    /// with `q = −Δw/τ_m`.
+    fn integrate_series<N: FieldNum<T>>(&self, pi: &[N; NC], deg: usize, w: N, tm: N, q: N) -> N {
+        let zero = N::constant(T::ZERO);
+        let e = 2 * self.m as i32 + 1;
+        let q = -q;
+        let q2 = q.sqr();
+        let kmax = self.terms as usize; // k < kmax
+        let mut acc = zero;
+        let mut wp = w; // w^{j+1}
+        let mut j = 0usize;
+        while j <= deg {
+            // S_j = Σ_{k ≡ j mod 2, k < kmax} β_k q^k / (j+k+1), Horner in q²
+            let par = j % 2;
+            let mut top = kmax - 1;
+            if top % 2 != par {
+                top -= 1;
+            }
+            let mut s = zero;
+            let mut k = top as isize;
+            while k >= 0 {
+                let ku = k as usize;
+                s = s * q2 + self.beta[ku] / T::from_f64((j + ku + 1) as f64);
+                k -= 2;
+            }
+            if par == 1 {
+                s = s * q;
+            }
+            acc = acc + pi[j] * wp * s;
+            wp = wp * w;
+            j += 1;
+        }
+        let r = acc * tm.recip().powi(e) * T::TWO;
+        (r * (-self.tol + T::ONE)).join(r * (T::ONE + self.tol))
+    }
+
+    /// Partial fractions in `τ = τ_m + Δz` (module docs; `poly` in `z`).
+    fn integrate_fractions<N: FieldNum<T>>(&self, poly: &[N; NC], deg: usize, w: N, tm: N) -> N {
+        let zero = N::constant(T::ZERO);
+        let e = 2 * self.m as usize + 1;
+        let dw = w * self.delta;
+        let tau0 = tm - dw;
+        let tau1 = tm + dw;
+        // poly(z) = Σ_j a_j ((τ − τ_m)/Δ)^j = Σ_i c_i τ^i
+        let mut ntm = [zero; NC]; // (−τ_m)^k
+        ntm[0] = N::constant(T::ONE);
+        let mut k = 1;
+        while k < NC {
+            ntm[k] = ntm[k - 1] * (-tm);
+            k += 1;
+        }
+        let mut c = [zero; NC];
+        let inv_d = T::ONE / self.delta;
+        let mut j = 0usize;
+        let mut dpow = T::ONE; // Δ^{-j}
+        while j <= deg {
+            let aj = poly[j] * dpow;
+            let mut i = 0usize;
+            while i <= j {
+                c[i] = c[i] + aj * ntm[j - i] * T::from_f64(binom(j as u32, i as u32));
+                i += 1;
+            }
+            dpow = dpow * inv_d;
+            j += 1;
+        }
+        let mut acc = zero;
+        let r0 = tau0.recip();
+        let r1 = tau1.recip();
+        let mut i = 0usize;
+        while i <= deg {
+            let pw = e as i32 - 1 - i as i32; // ∫τ^{i−e} = τ^{−pw}/(−pw)
+            if pw == 0 {
+                acc = acc + c[i] * (tau1 * r0).ln();
+            } else if pw > 0 {
+                acc = acc + c[i] * (r1.powi(pw) - r0.powi(pw)) / T::from_f64(-f64::from(pw));
+            }
+            i += 1;
+        }
+        acc / self.delta
+    }
+
+    /// The Cauchy (degree 3) density at axial coordinate `xc` (from the
+    /// midpoint) and squared line distance `d2`.
+    fn cauchy<N: FieldNum<T>>(&self, xc: N, d2: N) -> N {
+        let s2 = self.sigma * self.sigma;
+        let a = s2 * self.delta * self.delta + T::ONE;
+        let b = -(xc * T::TWO) + T::TWO * s2 * self.tc * self.delta;
+        let tau_x = xc * self.delta + self.tc;
+        let e2 = (tau_x.sqr() * s2 + d2 * a) / (a * a);
+        let vc = b / (T::TWO * a);
+        let v0 = vc - self.half;
+        let v1 = vc + self.half;
+        let tau_v = -(vc * self.delta) + self.tc;
+        let r0 = (v0.sqr() + e2).sqrt();
+        let r1 = (v1.sqr() + e2).sqrt();
+        let dv2 = (v1 - v0) * (v1 + v0);
+        // [−1/r]
+        let k1 = dv2 / (r0 * r1 * (r0 + r1));
+        // [v/(e² r)] and [asinh(v/e)]
+        let (e0, e1) = (v0.enclosure(), v1.enclosure());
+        let same_pos = e0.lo() >= T::ZERO;
+        let same_neg = e1.hi() <= T::ZERO;
+        let across = e0.hi() < T::ZERO && e1.lo() > T::ZERO;
+        let stable_k0 = || dv2 / (r0 * r1 * (v1 * r0 + v0 * r1));
+        let direct_k0 = || (v1 / r1 - v0 / r0) / e2;
+        let pos_as = || ((v1 + r1) / (v0 + r0)).ln();
+        let neg_as = || ((r0 - v0) / (r1 - v1)).ln();
+        let across_as = || ((v1 + r1) * (r0 - v0) / e2).ln();
+        let (k0, ash) = if same_pos {
+            (stable_k0(), pos_as())
+        } else if same_neg {
+            (stable_k0(), neg_as())
+        } else if across {
+            (direct_k0(), across_as())
+        } else {
+            (
+                stable_k0().join(direct_k0()),
+                pos_as().join(neg_as()).join(across_as()),
+            )
+        };
+        let k2 = ash - k0 * e2;
+        let integral =
+            k2 * (self.delta * self.delta) + k1 * tau_v * (T::TWO * self.delta) + k0 * tau_v.sqr();
+        integral * self.scale / (a * a.sqrt())
+    }
+
+    /// The density and its gradient in closed form, in plain floats
+    /// (compact kernel: differentiated under the integral, see the module
+    /// docs; Cauchy: forward-mode differentiation of the closed form).
+    pub fn density_gradient(&self, p: [T; 3]) -> (T, [T; 3]) {
+        if self.m == 0 {
+            let f = self.density(p.map(Plain)).0;
+            let mut g = [T::ZERO; 3];
+            let mut k = 0;
+            while k < 3 {
+                let mut q = p.map(|v| boundtrace_inclusion::Jet::constant(v));
+                q[k] = boundtrace_inclusion::Jet::variable(p[k]);
+                g[k] = self.density(q).d1;
+                k += 1;
+            }
+            return (f, g);
+        }
+        let g = self.gradient_generic(p.map(Plain));
+        (self.density(p.map(Plain)).0, [g[0].0, g[1].0, g[2].0])
+    }
+
+    /// The closed-form gradient of the compact density in any number type
+    /// (`[0; 3]` for the Cauchy kernel, which has no closed form here).
+    pub fn gradient_generic<N: FieldNum<T>>(&self, p: [N; 3]) -> [N; 3] {
+        let zero = N::constant(T::ZERO);
+        if self.m == 0 {
+            return [zero; 3];
+        }
+        let (x, d2) = self.seg.axial(p);
+        let xc = x - self.half;
+        let (poly, y0, y1) = self.clip(xc, d2);
+        // ∇f = −2m·scale·[(p − q(y_m))·J0 − u·J1], J0 = ∫P^{m−1}/τ^e,
+        // J1 = ∫(y − y_m)P^{m−1}/τ^e
+        let j0 = self.integrate(&poly, self.m - 1, false, y0, y1);
+        let j1 = self.integrate(&poly, self.m - 1, true, y0, y1);
+        let ym = (y0 + y1) * T::HALF;
+        let mid = self.seg.point_at(self.half);
+        let u = self.seg.axis();
+        let k = self.scale * T::from_f64(-2.0 * f64::from(self.m));
+        [
+            ((p[0] - mid[0] - ym * u[0]) * j0 - j1 * u[0]) * k,
+            ((p[1] - mid[1] - ym * u[1]) * j0 - j1 * u[1]) * k,
+            ((p[2] - mid[2] - ym * u[2]) * j0 - j1 * u[2]) * k,
+        ]
+    }
+
+    /// The normalization `g(f)` of Part III eq. 1.3 (compact) / 1.4
+    /// (Cauchy): the squared homothetic distance to an infinite line of
+    /// constant radius whose field is `f`. `g(iso) = 1`, decreasing.
+    pub fn g<N: FieldNum<T>>(&self, f: N) -> N {
+        let s2 = self.sigma * self.sigma;
+        if self.m == 0 {
+            f.recip() * ((T::ONE + s2) * self.iso) - s2
+        } else {
+            let expo = T::TWO / T::from_f64(f64::from(2 * self.m + 1));
+            let r = (f / self.iso).max(N::constant(T::ZERO)).powf(expo);
+            (-(r * (T::ONE - T::ONE / s2)) + T::ONE) * s2
+        }
+    }
+
+    /// The normalized field `g(f(p)) − 1` of this primitive alone (Part III
+    /// eq. 1.5): positive outside, zero on the surface.
+    pub fn normalized<N: FieldNum<T>>(&self, p: [N; 3]) -> N {
+        self.g(self.density(p)) - T::ONE
+    }
+
+    /// The support of the primitive as a sphere-cone: radii scaled by `σ`
+    /// (compact: exactly where the density is non-zero, thesis Fig. 1.6),
+    /// or, for the Cauchy kernel, by the clipping scale
+    /// [`cauchy_clip_scale`](Self::cauchy_clip_scale)`(eps)` outside of
+    /// which the density is `< eps` (Part III §1.5). `eps` is ignored for
+    /// compact kernels.
+    pub fn support(&self, eps: T) -> SphereCone<T> {
+        if self.m == 0 {
+            self.seg.sphere_cone(self.cauchy_clip_scale(eps))
+        } else {
+            self.seg.sphere_cone(self.sigma)
+        }
+    }
+
+    /// The scale `S` such that the Cauchy density is `< eps` wherever
+    /// `h_S(p) > S` (outside the sphere-cone of radii `S·r`). Derivation:
+    /// there every skeleton point has `h ≥ S`, so
+    /// `f ≤ k(S)/N · ∫₀ᴸ ds/τ = k(S)/N · Λ`, `Λ = ln(r_b/r_a)/Δ` (`L/r` for
+    /// constant radius); solving `k(S)Λ/N = eps` for `k(S) =
+    /// (1 + S²/σ²)^{−3/2}` gives `S = σ·√((Λ/(N·eps))^{2/3} − 1)` (`0` when
+    /// the bracket is negative). Returns `σ` for compact kernels.
+    pub fn cauchy_clip_scale(&self, eps: T) -> T {
+        if self.m != 0 {
+            return self.sigma;
+        }
+        let ra = self.seg.ra().as_f64();
+        let rb = self.seg.rb().as_f64();
+        let l = self.seg.length().as_f64();
+        let lam = if (rb - ra).abs() <= 1e-12 * ra {
+            l / ra.min(rb)
+        } else {
+            (rb / ra).ln() / ((rb - ra) / l)
+        };
+        let q = (lam * self.inv_norm.as_f64() / eps.as_f64()).powf(2.0 / 3.0) - 1.0;
+        let s = self.sigma.as_f64() * q.max(0.0).sqrt();
+        T::from_f64(s * (1.0 + 1e-9) + 1e-300)
+    }
+
+    /// A directional Lipschitz bound (Part III ch. 2 §2.1.1): an upper
+    /// bound of `|d f(o + t·d)/dt|` for `t ∈ [t0, t1]` (see the module
+    /// docs), `+∞` for invalid input.
+    pub fn directional_lipschitz(&self, ray: &Ray<T>, t0: T, t1: T) -> T {
+        let iv = |v: T| Interval::point(v);
+        let (s0, s1) = if self.m == 0 {
+            (T::ZERO, self.seg.length())
+        } else {
+            // skeleton points whose support ball can reach the ray segment:
+            // |s − x(p)| ≤ σ τ_max for some p on it
+            let tmax = self.seg.ra().max(self.seg.rb());
+            let x_at = |t: T| -> Interval<T> {
+                let p = ray.at::<Interval<T>>(t, t);
+                self.seg.axial(p).0
+            };
+            let (xa, xb) = (x_at(t0), x_at(t1));
+            let reach = (iv(self.sigma) * iv(tmax)).hi();
+            let lo = (xa.min(xb) - iv(reach)).lo().max(T::ZERO);
+            let hi = (xa.max(xb) + iv(reach)).hi().min(self.seg.length());
+            if !(lo <= hi) {
+                return T::ZERO;
+            }
+            (lo, hi)
+        };
+        let tau = |s: T| iv(self.seg.ra()) + iv(self.seg.radius_slope()) * iv(s);
+        let integral = (iv(s1) - iv(s0)) / (tau(s0) * tau(s1));
+        let l = iv(self.inv_norm) * iv(self.kprime_max) * iv(ray.speed()) * integral;
+        let r = l.hi();
+        if r.is_nan() { T::INFINITY } else { r }
+    }
+
+    /// A sound enclosure of the density's derivative along the ray on
+    /// `[t0, t1]`: the closed-form gradient in interval arithmetic (compact
+    /// kernel), intersected with `±`[`directional_lipschitz`](Self::directional_lipschitz).
+    pub fn derivative_range(&self, ray: &Ray<T>, t0: T, t1: T) -> Interval<T> {
+        let l = self.directional_lipschitz(ray, t0, t1);
+        let lip = Interval::new(-l, l);
+        if self.m == 0 {
+            return lip;
+        }
+        let p = ray.at::<Interval<T>>(t0, t1);
+        let g = self.gradient_generic(p);
+        let d = ray.dir;
+        let dd = g[0] * d[0] + g[1] * d[1] + g[2] * d[2];
+        let r = dd.intersection(lip);
+        if r.is_empty() { lip } else { r }
+    }
+
+    /// A sound enclosure of the density on the ray interval `[t0, t1]`
+    /// (Part III ch. 2 §2.1): end-point values, monotone intervals detected
+    /// from the sign of a sound derivative enclosure on the whole interval,
+    /// and the two Lipschitz lines (Fig. 2.2 right) otherwise.
+    pub fn density_range(&self, ray: &Ray<T>, t0: T, t1: T) -> Interval<T> {
+        let f0: Interval<T> = self.density(ray.at(t0, t0));
+        let f1: Interval<T> = self.density(ray.at(t1, t1));
+        let d = self.derivative_range(ray, t0, t1);
+        let h = Interval::point(t1) - Interval::point(t0);
+        let zero = Interval::point(T::ZERO);
+        let r = if d.lo() >= T::ZERO {
+            Interval::new(f0.lo(), f1.hi())
+        } else if d.hi() <= T::ZERO {
+            Interval::new(f1.lo(), f0.hi())
+        } else {
+            // f ≤ f0 + d₊(t − t0) and f ≤ f1 + |d₋|(t1 − t): the two lines
+            // meet at (f0|d₋| + f1 d₊ + d₊|d₋| h)/(d₊ + |d₋|); likewise below.
+            let (dm, dp) = (Interval::point(-d.lo()), Interval::point(d.hi()));
+            let span = dp + dm;
+            let up = (f0 * dm + f1 * dp + dp * dm * h) / span;
+            let lo = (f0 * dp + f1 * dm - dp * dm * h) / span;
+            Interval::new(lo.lo(), up.hi())
+        };
+        let r = r.hull(f0).hull(f1);
+        Interval::new(r.lo().max(zero.lo()), r.hi())
+    }
+
+    /// The thesis' per-primitive range (Part III ch. 2 §2.1): monotony
+    /// decided from the derivative signs at the two end-points only, the
+    /// lower end `min(f(t0), f(t1))` on ambiguous intervals.
+    ///
+    /// # Warning
+    ///
+    /// Sound only if the density is unimodal along the ray (increasing then
+    /// decreasing), which the thesis observes but which is not proven for
+    /// varying radii; prefer [`density_range`](Self::density_range).
+    pub fn density_range_unimodal(&self, ray: &Ray<T>, t0: T, t1: T) -> Interval<T> {
+        let f0: Interval<T> = self.density(ray.at(t0, t0));
+        let f1: Interval<T> = self.density(ray.at(t1, t1));
+        let dir = |t: T| {
+            let g = self.gradient_generic(ray.at::<Interval<T>>(t, t));
+            g[0] * ray.dir[0] + g[1] * ray.dir[1] + g[2] * ray.dir[2]
+        };
+        if self.m != 0 {
+            let (d0, d1) = (dir(t0), dir(t1));
+            if d0.lo() >= T::ZERO && d1.lo() >= T::ZERO {
+                return Interval::new(f0.lo(), f1.hi());
+            }
+            if d0.hi() <= T::ZERO && d1.hi() <= T::ZERO {
+                return Interval::new(f1.lo(), f0.hi());
+            }
+        }
+        let full = self.density_range(ray, t0, t1);
+        Interval::new(f0.lo().min(f1.lo()).max(full.lo()), full.hi())
+    }
+}
+
+/// `poly^m` into `out`; returns the degree `2m`.
+fn power<T: Real, N: FieldNum<T>>(poly: &[N; 3], m: u32, out: &mut [N; NC]) -> usize {
+    let zero = N::constant(T::ZERO);
+    *out = [zero; NC];
+    out[0] = N::constant(T::ONE);
+    let mut deg = 0usize;
+    let mut k = 0;
+    while k < m {
+        let mut next = [zero; NC];
+        let mut i = 0;
+        while i <= deg {
+            let mut j = 0;
+            while j < 3 {
+                if i + j < NC {
+                    next[i + j] = next[i + j] + out[i] * poly[j];
+                }
+                j += 1;
+            }
+            i += 1;
+        }
+        *out = next;
+        deg += 2;
+        k += 1;
+    }
+    deg
+}
+
+/// `iso − f(p)`: positive outside. Taylor linear bounds come from the
+/// per-primitive derivative enclosure ([`ScalisSegment::derivative_range`]).
+impl<T: Real> Field<T> for ScalisSegment<T> {
+    fn eval<N: FieldNum<T>>(&self, p: [N; 3]) -> N {
+        -self.density(p) + self.iso
+    }
+
+    fn taylor_linear(&self, ray: &Ray<T>, t0: T, t1: T) -> Option<ForwardLinear<T>> {
+        let f0: Interval<T> = self.eval(ray.at(t0, t0));
+        let d = self.derivative_range(ray, t0, t1);
+        let h = (Interval::point(t1) - Interval::point(t0)).lo();
+        Some(ForwardLinear::taylor(f0, -d, h.max(T::ZERO)))
+    }
+}
+
+/// A skeleton of `M` SCALIS segments blended by summation, as the field
+/// `iso − Σ fᵢ(p)` (all segments share the kernel and iso-value of the
+/// first one's normalization; see [`ScalisSegment`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ScalisSkeleton<T, const M: usize> {
+    /// The segments.
+    pub segments: [ScalisSegment<T>; M],
+}
+
+impl<T: Real, const M: usize> ScalisSkeleton<T, M> {
+    /// A skeleton from its segments.
+    ///
+    /// # Errors
+    ///
+    /// [`FieldError::InvalidParameter`] when `M = 0` or the segments differ
+    /// in kernel or iso-value.
+    pub fn new(segments: [ScalisSegment<T>; M]) -> Result<Self, FieldError> {
+        let Some(first) = segments.first() else {
+            return Err(FieldError::InvalidParameter {
+                name: "segments",
+                reason: "a skeleton needs at least one segment",
+            });
+        };
+        if segments
+            .iter()
+            .any(|s| s.kernel != first.kernel || s.iso != first.iso)
+        {
+            return Err(FieldError::InvalidParameter {
+                name: "segments",
+                reason: "all segments of a skeleton must share kernel and iso-value",
+            });
+        }
+        Ok(Self { segments })
+    }
+
+    /// `Σ fᵢ(p)`.
+    pub fn density<N: FieldNum<T>>(&self, p: [N; 3]) -> N {
+        let mut acc = N::constant(T::ZERO);
+        let mut i = 0;
+        while i < M {
+            acc = acc + self.segments[i].density(p);
+            i += 1;
+        }
+        acc
+    }
+
+    /// The sum of the per-primitive ranges (sound enclosure of `Σ fᵢ` on
+    /// `[t0, t1]`).
+    pub fn density_range(&self, ray: &Ray<T>, t0: T, t1: T) -> Interval<T> {
+        let mut acc = Interval::point(T::ZERO);
+        let mut i = 0;
+        while i < M {
+            acc = acc + self.segments[i].density_range(ray, t0, t1);
+            i += 1;
+        }
+        acc
+    }
+
+    /// The sum of the per-primitive directional Lipschitz bounds.
+    pub fn directional_lipschitz(&self, ray: &Ray<T>, t0: T, t1: T) -> T {
+        let mut acc = Interval::point(T::ZERO);
+        let mut i = 0;
+        while i < M {
+            acc = acc + Interval::point(self.segments[i].directional_lipschitz(ray, t0, t1));
+            i += 1;
+        }
+        acc.hi()
+    }
+}
+
+impl<T: Real, const M: usize> Field<T> for ScalisSkeleton<T, M> {
+    fn eval<N: FieldNum<T>>(&self, p: [N; 3]) -> N {
+        let iso = match self.segments.first() {
+            Some(s) => s.iso,
+            None => T::ONE,
+        };
+        -self.density(p) + iso
+    }
+
+    fn taylor_linear(&self, ray: &Ray<T>, t0: T, t1: T) -> Option<ForwardLinear<T>> {
+        let f0: Interval<T> = self.eval(ray.at(t0, t0));
+        let mut d = Interval::point(T::ZERO);
+        let mut i = 0;
+        while i < M {
+            d = d + self.segments[i].derivative_range(ray, t0, t1);
+            i += 1;
+        }
+        let h = (Interval::point(t1) - Interval::point(t0)).lo();
+        Some(ForwardLinear::taylor(f0, -d, h.max(T::ZERO)))
+    }
+}
+
+/// The normalized field `g(Σ fᵢ) − 1` of a skeleton (Part III eq. 1.5): an
+/// approximate squared homothetic distance to the surface minus one,
+/// positive outside, with the same zero set as the skeleton's field.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Normalized<T, const M: usize>(pub ScalisSkeleton<T, M>);
+
+impl<T: Real, const M: usize> Field<T> for Normalized<T, M> {
+    fn eval<N: FieldNum<T>>(&self, p: [N; 3]) -> N {
+        let f = self.0.density(p);
+        match self.0.segments.first() {
+            Some(s) => s.g(f) - T::ONE,
+            None => f,
+        }
+    }
+}
