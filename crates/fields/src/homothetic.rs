@@ -52,6 +52,9 @@
 //! [`HomotheticPrimitive`] is `k ∘ h_S` for a [`SegmentKernel`], exposed as
 //! the field `k(1) − k(h_S(p))` (zero on the sphere-cone, positive outside).
 
+// `!(x > 0)` is deliberate: it is true for NaN, which must be rejected.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use crate::FieldError;
 use crate::bounding::SphereCone;
 use crate::error::{finite3, positive};
@@ -266,7 +269,7 @@ impl<T: Real> Segment<T> {
     /// use boundtrace_fields::homothetic::Segment;
     /// use boundtrace_inclusion::Ray;
     /// let s = Segment::new([0.0, 0.0, 0.0], 0.5, [2.0, 0.0, 0.0], 1.0).unwrap();
-    /// let ray = Ray::new([1.0, 5.0, 1.0], [0.0, -1.0, 0.0]);
+    /// let ray = Ray::new([1.0, 5.0, 0.5], [0.0, -1.0, 0.0]);
     /// let (t, s_min, h2) = s.argmin_along_ray(&ray).unwrap();
     /// assert!((t - 5.0f64).abs() < 1e-12); // the ray passes through y = 0
     /// assert!(h2 <= 1.0);

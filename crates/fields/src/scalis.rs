@@ -125,6 +125,9 @@
 //! offered separately as [`ScalisSegment::density_range_unimodal`] with a
 //! warning.
 
+// `!(x > 0)` is deliberate: it is true for NaN, which must be rejected.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use crate::FieldError;
 use crate::bounding::SphereCone;
 use crate::homothetic::{Plain, Segment, SegmentKernel};
