@@ -755,6 +755,12 @@ impl<T: Real> ScalisSegment<T> {
         Interval::new(r.lo().max(zero.lo()), r.hi())
     }
 
+    /// A sound enclosure of the field `iso − f` on `[t0, t1]` (from
+    /// [`density_range`](Self::density_range)).
+    pub fn field_range(&self, ray: &Ray<T>, t0: T, t1: T) -> Interval<T> {
+        Interval::point(self.iso) - self.density_range(ray, t0, t1)
+    }
+
     /// The thesis' per-primitive range (Part III ch. 2 §2.1): monotony
     /// decided from the derivative signs at the two end-points only, the
     /// lower end `min(f(t0), f(t1))` on ambiguous intervals.
@@ -933,5 +939,78 @@ impl<T: Real, const M: usize> Field<T> for Normalized<T, M> {
             Some(s) => s.g(f) - T::ONE,
             None => f,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn seg(ra: f64, rb: f64) -> Segment<f64> {
+        Segment::new([0.0, 0.0, 0.0], ra, [3.0, 0.0, 0.0], rb).unwrap()
+    }
+
+    #[test]
+    fn validation() {
+        let k6 = SegmentKernel::compact_polynomial(6, 2.0).unwrap();
+        assert!(ScalisSegment::new(seg(0.5, 0.5), k6, 1.0).is_ok());
+        assert!(ScalisSegment::new(seg(0.5, 0.5), k6, -1.0).is_err());
+        // σ·|rb − ra| = 2·2 ≥ L = 3
+        assert!(ScalisSegment::new(seg(0.5, 2.5), k6, 1.0).is_err());
+        let k10 = SegmentKernel::compact_polynomial(10, 2.0).unwrap();
+        assert!(ScalisSegment::new(seg(0.5, 0.5), k10, 1.0).is_err());
+        let c5 = SegmentKernel::cauchy(5, 1.0).unwrap();
+        assert!(ScalisSegment::new(seg(0.5, 0.5), c5, 1.0).is_err());
+    }
+
+    #[test]
+    fn density_is_zero_outside_the_support_and_symmetric() {
+        let k = SegmentKernel::compact_polynomial(6, 2.0).unwrap();
+        let s = ScalisSegment::new(seg(0.5, 0.5), k, 1.0).unwrap();
+        assert_eq!(s.density([1.5, 1.0 + 1e-9, 0.0]), 0.0);
+        assert_eq!(s.density([-1.0 - 1e-9, 0.0, 0.0]), 0.0);
+        let a: f64 = s.density([0.7, 0.3, 0.1]);
+        let b: f64 = s.density([2.3, -0.1, 0.3]);
+        assert!((a - b).abs() < 1e-13 && a > 0.0);
+        // an interval at a point encloses the float value
+        let i: Interval<f64> = s.density([0.7, 0.3, 0.1].map(Interval::point));
+        assert!(i.contains(a));
+    }
+
+    #[test]
+    fn g_inverts_the_line_field() {
+        for k in [
+            SegmentKernel::compact_polynomial(4, 1.5).unwrap(),
+            SegmentKernel::cauchy(3, 1.0).unwrap(),
+        ] {
+            let s = ScalisSegment::new(seg(0.5, 0.5), k, 2.0).unwrap();
+            let g1: f64 = s.g(2.0);
+            assert!((g1 - 1.0).abs() < 1e-12);
+            let (ga, gb): (f64, f64) = (s.g(1.0), s.g(3.0));
+            assert!(ga > 1.0 && gb < 1.0);
+        }
+    }
+
+    #[test]
+    fn range_and_lipschitz_on_a_crossing_ray() {
+        let k = SegmentKernel::compact_polynomial(6, 2.0).unwrap();
+        let s = ScalisSegment::new(seg(0.4, 0.6), k, 1.0).unwrap();
+        let ray = Ray::new([1.0, -3.0, 0.2], [0.0, 1.0, 0.0]);
+        let r = s.density_range(&ray, 1.0, 5.0);
+        let l = s.directional_lipschitz(&ray, 1.0, 5.0);
+        let mut prev: Option<f64> = None;
+        for i in 0..=400 {
+            let t = 1.0 + 4.0 * f64::from(i) / 400.0;
+            let f: f64 = s.density(ray.at(t, t));
+            assert!(r.contains(f), "{r:?} misses {f}");
+            if let Some(p) = prev {
+                assert!((f - p).abs() <= l * 0.01 + 1e-12);
+            }
+            prev = Some(f);
+        }
+        assert!(
+            s.field_range(&ray, 1.0, 5.0)
+                .contains(1.0 - s.density([1.0, 0.0, 0.2]))
+        );
     }
 }
