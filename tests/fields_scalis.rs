@@ -5,7 +5,7 @@
 
 mod common;
 
-use boundtrace::fields::homothetic::{Segment, SegmentKernel};
+use boundtrace::fields::homothetic::{HomotheticPrimitive, Segment, SegmentKernel};
 use boundtrace::fields::scalis::{Normalized, ScalisSegment, ScalisSkeleton};
 use boundtrace::ia_core::{Affine, Interval};
 use boundtrace::inclusion::{
@@ -731,5 +731,94 @@ fn f32_path_agrees_with_f64() {
                 "f64 {d64} vs f32 {d32}: {s:?} at {p:?}"
             );
         }
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Homothetic-distance primitives (eq. 1.13): containment of every bound kind.
+
+#[derive(Clone, Debug)]
+struct HCase {
+    kernel: SegmentKernel<f64>,
+    seg: SegSpec,
+    ray: Ray<f64>,
+    t0: f64,
+    h: f64,
+    taus: [f64; 3],
+}
+
+fn hcase() -> impl Strategy<Value = HCase> {
+    let kernel = prop_oneof![
+        (1u32..=4, 1.2f64..3.0).prop_map(|(m, s)| compact(2 * m, s)),
+        (2u32..=5, 0.5f64..2.0).prop_map(|(n, s)| SegmentKernel::cauchy(n, s).unwrap()),
+    ];
+    (
+        kernel,
+        ((v3(1.5), 0.05f64..1.0), (v3(1.5), 0.05f64..1.0)),
+        v3(3.0),
+        v3(1.0),
+        0.0f64..4.0,
+        prop_oneof![1e-3f64..0.05, 0.05f64..1.0, 1.0f64..4.0],
+        [0.0f64..1.0, 0.0f64..1.0, 0.0f64..1.0],
+    )
+        .prop_map(|(kernel, seg, o, d, t0, h, taus)| HCase {
+            kernel,
+            seg,
+            ray: Ray::new(o, d),
+            t0,
+            h,
+            taus,
+        })
+}
+
+fn check_field<F: Field<f64>>(
+    f: &F,
+    ray: &Ray<f64>,
+    t0: f64,
+    h: f64,
+    taus: &[f64; 3],
+) -> Result<(), TestCaseError> {
+    let t1 = t0 + h;
+    let iv: Interval<f64> = f.eval(ray.at(t0, t1));
+    let af: Affine<f64, 1> = f.eval(ray.at(t0, t1));
+    let fl = linear_bound(f, ray, t0, t1, BoundKind::BottomUp).unwrap();
+    let fq = quadratic_bound(f, ray, t0, t1, BoundKind::BottomUp).unwrap();
+    for tau in taus.iter().chain([0.0, 1.0].iter()) {
+        let t = (t0 + tau * h).min(t1);
+        let r = exact(f, ray, t);
+        prop_assert!(overlaps(iv, r), "interval {iv:?} vs {r:?} at t={t}");
+        prop_assert!(overlaps(af.to_interval(), r), "affine {af:?} vs {r:?}");
+        let tt = t - t0;
+        if fl.is_valid() && tt <= fl.validity() {
+            prop_assert!(
+                overlaps(fl.bounds_at(tt), r),
+                "linear {:?} vs {r:?}",
+                fl.bounds_at(tt)
+            );
+        }
+        if fq.is_valid() && tt <= fq.validity() {
+            prop_assert!(
+                overlaps(fq.bounds_at(tt), r),
+                "quadratic {:?} vs {r:?}",
+                fq.bounds_at(tt)
+            );
+        }
+    }
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(common::config())]
+
+    /// `k ∘ h_S` and `h_S − 1`: interval, affine and forward bottom-up bounds
+    /// contain the field at sampled ray points.
+    #[test]
+    fn homothetic_bounds_contain_the_field(c in hcase()) {
+        let ((a, ra), (b, rb)) = c.seg;
+        let Ok(seg) = Segment::new(a, ra, b, rb) else { return Ok(()) };
+        if c.ray.speed() <= 1e-3 || c.ray.speed().is_nan() { return Ok(()) }
+        let prim = HomotheticPrimitive::new(seg, c.kernel).unwrap();
+        check_field(&prim, &c.ray, c.t0, c.h, &c.taus)?;
+        check_field(&seg, &c.ray, c.t0, c.h, &c.taus)?;
     }
 }
