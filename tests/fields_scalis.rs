@@ -822,3 +822,4 @@ proptest! {
         check_field(&seg, &c.ray, c.t0, c.h, &c.taus)?;
     }
 }
+

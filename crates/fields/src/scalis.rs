@@ -113,7 +113,13 @@
 //! the ray segment (all of `[0, L]` for Cauchy) and
 //! `∫ ds/τ² = (s₁ − s₀)/(τ(s₀)τ(s₁))` exactly. `max|k'|` is
 //! `2m·h*(1 − h*²/σ²)^{m−1}/σ²` at `h*² = σ²/(2m−1)` (compact) and
-//! `3·(1/(2σ))·(4/5)^{5/2}` at `h* = σ/2` (Cauchy, thesis §2.1.1).
+//! `3·(1/(2σ))·(4/5)^{5/2}` at `h* = σ/2` (Cauchy, thesis §2.1.1); when a
+//! lower bound `h_min` of `h_S` on the ray segment (interval evaluation of
+//! [`Segment::homothetic_sq`]) exceeds `h*`, `|k'(h_min)|` replaces it
+//! (`|k'|` decreases beyond `h*` and every skeleton point is at least
+//! `h_min` away), and the bound is `0` beyond a compact support. This is
+//! simpler than the thesis' split of the integral by the sign of
+//! `(p − q)·u`, and looser where the ray passes close to the skeleton.
 //! [`ScalisSegment::density_range`] combines sound end-point values
 //! (interval evaluation at the points), a sound enclosure of the derivative
 //! on the whole interval (the closed-form gradient evaluated in interval
@@ -121,9 +127,13 @@
 //! the two Lipschitz lines of Fig. 2.2 for ambiguous intervals.
 //! The thesis detects monotony from the derivative signs at the interval
 //! end-points alone, relying on the observation that the field is
-//! unimodal along rays; that is not proven for varying radii, so it is
-//! offered separately as [`ScalisSegment::density_range_unimodal`] with a
-//! warning.
+//! unimodal along rays; that is not proven for varying radii (no
+//! counter-example was found in the tests), so it is offered separately as
+//! [`ScalisSegment::density_range_unimodal`] with a warning.
+//!
+//! [`Field::taylor_linear`] of [`ScalisSegment`] and [`ScalisSkeleton`] is
+//! [`ForwardLinear::taylor`] from the point enclosure at `t₀` and that
+//! derivative enclosure.
 
 // `!(x > 0)` is deliberate: it is true for NaN, which must be rejected.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -706,9 +716,51 @@ impl<T: Real> ScalisSegment<T> {
         };
         let tau = |s: T| iv(self.seg.ra()) + iv(self.seg.radius_slope()) * iv(s);
         let integral = (iv(s1) - iv(s0)) / (tau(s0) * tau(s1));
-        let l = iv(self.inv_norm) * iv(self.kprime_max) * iv(ray.speed()) * integral;
+        let kp = self.kprime_bound(ray, t0, t1);
+        if kp == T::ZERO {
+            return T::ZERO;
+        }
+        let l = iv(self.inv_norm) * iv(kp) * iv(ray.speed()) * integral;
         let r = l.hi();
         if r.is_nan() { T::INFINITY } else { r }
+    }
+
+    /// An upper bound of `|k'(h)|` over the homothetic distances `h ≥ h_S(p)`
+    /// of the points `p` of the ray segment: `max |k'|` when the segment can
+    /// come closer than the maximiser `h*`, else `|k'(h_min)|` (`|k'|`
+    /// decreases beyond `h*`), `0` beyond a compact support. `h_min` is a
+    /// lower bound of `h_S` on the ray segment from interval arithmetic.
+    fn kprime_bound(&self, ray: &Ray<T>, t0: T, t1: T) -> T {
+        let hmin2: Interval<T> = self.seg.homothetic_sq(ray.at(t0, t1));
+        let h2 = hmin2.lo().as_f64();
+        if !(h2 > 0.0) {
+            return self.kprime_max;
+        }
+        let h = h2.sqrt() * (1.0 - 1e-12);
+        let sf = self.sigma.as_f64();
+        let (hstar, k) = if self.m == 0 {
+            let u = h * h / (sf * sf);
+            (sf * 0.5, 3.0 * h / (sf * sf) * (1.0 + u).powf(-2.5))
+        } else {
+            if h >= sf {
+                return T::ZERO;
+            }
+            let mf = f64::from(self.m);
+            let u = h * h / (sf * sf);
+            (
+                sf / (2.0 * mf - 1.0).sqrt(),
+                2.0 * mf * h / (sf * sf) * (1.0 - u).powf(mf - 1.0),
+            )
+        };
+        if h <= hstar {
+            return self.kprime_max;
+        }
+        let k = T::from_f64(k * (1.0 + 1e-9)).next_up();
+        if k.is_finite() {
+            k.min(self.kprime_max)
+        } else {
+            self.kprime_max
+        }
     }
 
     /// A sound enclosure of the density's derivative along the ray on
