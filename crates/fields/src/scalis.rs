@@ -469,13 +469,12 @@ impl<T: Real> ScalisSegment<T> {
         let mut j = 0usize;
         while j <= deg {
             // S_j = Σ_{k ≡ j mod 2, k < kmax} β_k q^k / (j+k+1), Horner in q²
-            let par = j % 2;
-            let mut top = kmax - 1;
-            if top % 2 != par {
-                top -= 1;
+            let par = (j % 2) as isize;
+            let mut k = kmax as isize - 1;
+            if k.rem_euclid(2) != par {
+                k -= 1;
             }
             let mut s = zero;
-            let mut k = top as isize;
             while k >= 0 {
                 let ku = k as usize;
                 s = s * q2 + self.beta[ku] / T::from_f64((j + ku + 1) as f64);
@@ -672,10 +671,14 @@ impl<T: Real> ScalisSegment<T> {
     /// `f ≤ k(S)/N · ∫₀ᴸ ds/τ = k(S)/N · Λ`, `Λ = ln(r_b/r_a)/Δ` (`L/r` for
     /// constant radius); solving `k(S)Λ/N = eps` for `k(S) =
     /// (1 + S²/σ²)^{−3/2}` gives `S = σ·√((Λ/(N·eps))^{2/3} − 1)` (`0` when
-    /// the bracket is negative). Returns `σ` for compact kernels.
+    /// the bracket is negative). Returns `σ` for compact kernels and `+∞`
+    /// for `eps ≤ 0` or NaN.
     pub fn cauchy_clip_scale(&self, eps: T) -> T {
         if self.m != 0 {
             return self.sigma;
+        }
+        if !(eps > T::ZERO) {
+            return T::INFINITY;
         }
         let ra = self.seg.ra().as_f64();
         let rb = self.seg.rb().as_f64();
