@@ -22,15 +22,19 @@ cargo clippy --workspace --all-targets -- -D warnings
 step "cargo test --workspace"
 cargo test --workspace
 
-step "cargo test boundtrace-ia-core and boundtrace-inclusion with the libm back end"
-cargo test -p boundtrace-ia-core -p boundtrace-inclusion --no-default-features --features libm
+step "cargo test boundtrace-ia-core, -inclusion and -fields with the libm back end"
+cargo test -p boundtrace-ia-core -p boundtrace-inclusion -p boundtrace-fields \
+    --no-default-features --features libm
 
 step "cargo doc (deny warnings)"
 RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps
 
-step "no_std build of boundtrace-ia-core and boundtrace-inclusion for thumbv7em-none-eabihf"
-cargo build -p boundtrace-ia-core -p boundtrace-inclusion --target thumbv7em-none-eabihf \
-    --no-default-features --features libm
+step "no_std build of boundtrace-ia-core, -inclusion and -fields for thumbv7em-none-eabihf"
+cargo build -p boundtrace-ia-core -p boundtrace-inclusion -p boundtrace-fields \
+    --target thumbv7em-none-eabihf --no-default-features --features libm
+step "no_std + alloc build of boundtrace-fields (builders, HRBF storage)"
+cargo build -p boundtrace-fields --target thumbv7em-none-eabihf --no-default-features \
+    --features libm,alloc
 
 step "ITF1788 conformance report"
 report=$(find "${CARGO_TARGET_DIR:-target}" -name itf1788-report.txt -path '*tmp*' 2>/dev/null | head -n 1)

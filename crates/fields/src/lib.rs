@@ -3,7 +3,35 @@
 //! the same code gives values, jets, interval/affine ranges and forward
 //! linear/quadratic bounds, on the CPU and (compiled to SPIR-V) the GPU.
 //!
-//! Sign convention (the tracer's): **`f > 0` outside, `f < 0` inside**.
+//! Sign convention (the tracer's): **`f > 0` outside, `f < 0` inside**;
+//! density fields are exposed as `iso − density`.
+//!
+//! ```
+//! use boundtrace_fields::blobtree::{FlatBlobtree, Node};
+//! use boundtrace_fields::{Operator, Primitive};
+//! use boundtrace_ia_core::Interval;
+//! use boundtrace_inclusion::{Field, ForwardQuadratic, Ray};
+//!
+//! // Two spheres blended by the compact smooth union G∪ (β = 0.2).
+//! let a = Primitive::sphere([-0.5, 0.0, 0.0], 0.6)?;
+//! let b = Primitive::sphere([0.5, 0.0, 0.0], 0.6)?;
+//! let op = Operator::compact_union(0.2, Operator::default_r_o(0.2))?;
+//! let tree = Node::op(op, Node::primitive(a), Node::primitive(b));
+//!
+//! // The flat post-order encoding is what CPU and GPU evaluate.
+//! let flat = FlatBlobtree::from_node(&tree)?;
+//! let scene = flat.as_ref();
+//!
+//! // A ray along x: a value, a sound range, a forward bound and its step.
+//! let ray = Ray::new([-3.0, 0.0, 0.0], [1.0, 0.0, 0.0]);
+//! let f0: f64 = scene.eval(ray.at(0.0, 0.0));
+//! assert!((f0 - 1.9).abs() < 1e-6); // 3 − 0.5 − 0.6, the blend is local
+//! let range: Interval<f64> = scene.eval(ray.at(0.0, 1.0));
+//! assert!(range.lo() > 0.0); // no surface for t ∈ [0, 1]
+//! let bound: ForwardQuadratic<f64> = scene.eval(ray.at(0.0, 3.0));
+//! assert!(bound.safe_step() <= 1.9 + 1e-9); // never passes the surface at t = 1.9
+//! # Ok::<(), boundtrace_fields::FieldError>(())
+//! ```
 //!
 //! | module | contents | source |
 //! | --- | --- | --- |
@@ -39,4 +67,9 @@ pub mod scalis;
 pub mod sdf;
 pub mod transform;
 
+pub use blob::{Blobs, PointBlob};
 pub use error::FieldError;
+pub use kernel::{Kernel, KernelKind};
+pub use operator::{Operator, OperatorClass, OperatorKind};
+pub use sdf::{Primitive, PrimitiveKind};
+pub use transform::Rigid;
