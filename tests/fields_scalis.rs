@@ -420,6 +420,51 @@ fn gradients_match_finite_differences() {
 }
 
 #[test]
+fn second_derivatives_match_finite_differences() {
+    let mut rng = Rng(101);
+    for k in [compact(4, 1.5), compact(6, 2.0), compact(8, 3.0)] {
+        for _ in 0..300 {
+            let s = random_scalis(&mut rng, k);
+            let p = random_point(&mut rng, &s);
+            let d = rng.vec(1.0);
+            let f2 = s.second_derivative_generic(p, d).unwrap();
+            let r = s.segment().ra().min(s.segment().rb());
+            // central difference of the closed-form directional derivative
+            // (a second difference of values would amplify the ~1e-10
+            // relative noise of the partial fractions by 1/h²)
+            let h = 1e-4 * r;
+            let at = |t: f64| -> f64 { s.density([0, 1, 2].map(|i| p[i] + t * d[i])) };
+            let dir = |t: f64| -> f64 {
+                let g = s.density_gradient([0, 1, 2].map(|i| p[i] + t * d[i])).1;
+                g[0] * d[0] + g[1] * d[1] + g[2] * d[2]
+            };
+            let fd = (dir(h) - dir(-h)) / (2.0 * h);
+            let scale = at(0.0).abs().max(1e-2) / (r * r);
+            let jj = boundtrace::inclusion::jet_at(&s, &Ray::new(p, d), 0.0);
+            assert!(
+                (f2 - fd).abs() <= 1e-3 * scale,
+                "f'' {f2} vs fd {fd}, jet {} ({k:?}) {s:?} at {p:?} along {d:?}",
+                -jj.d2
+            );
+            // and the jet's second derivative along the same direction
+            let ray = Ray::new(p, d);
+            let j = boundtrace::inclusion::jet_at(&s, &ray, 0.0);
+            assert!((-j.d2 - f2).abs() <= 1e-8 * scale, "jet {} vs {f2}", -j.d2);
+        }
+    }
+    assert!(
+        ScalisSegment::new(
+            Segment::new([0.0; 3], 1.0, [1.0, 0.0, 0.0], 1.0).unwrap(),
+            compact(2, 2.0),
+            1.0
+        )
+        .unwrap()
+        .second_derivative_generic([0.0; 3], [1.0, 0.0, 0.0])
+        .is_none()
+    );
+}
+
+#[test]
 fn argmin_along_ray_matches_dense_sampling() {
     let mut rng = Rng(5);
     for _ in 0..300 {
@@ -603,6 +648,10 @@ fn check<const M: usize>(c: &Case, sk: &ScalisSkeleton<f64, M>) -> Result<(), Te
     let af: Affine<f64, 1> = sk.eval(ray.at(t0, t1));
     let fl = linear_bound(sk, &ray, t0, t1, BoundKind::BottomUp).unwrap();
     let fq = quadratic_bound(sk, &ray, t0, t1, BoundKind::BottomUp).unwrap();
+    let tq = quadratic_bound(sk, &ray, t0, t1, BoundKind::Taylor);
+    let mq = quadratic_bound(sk, &ray, t0, t1, BoundKind::Mixed).unwrap();
+    let has_tq = matches!(c.kernel, SegmentKernel::CompactPolynomial { degree, .. } if degree >= 4);
+    prop_assert_eq!(tq.is_some(), has_tq);
     let tl = linear_bound(sk, &ray, t0, t1, BoundKind::Taylor).unwrap();
     let ml = linear_bound(sk, &ray, t0, t1, BoundKind::Mixed).unwrap();
     let range = sk.density_range(&ray, t0, t1);
@@ -639,12 +688,19 @@ fn check<const M: usize>(c: &Case, sk: &ScalisSkeleton<f64, M>) -> Result<(), Te
                 );
             }
         }
-        if fq.is_valid() && tt <= fq.validity() {
-            prop_assert!(
-                overlaps(fq.bounds_at(tt), r),
-                "quadratic {:?} vs {r:?}",
-                fq.bounds_at(tt)
-            );
+        for (name, b) in [
+            ("quadratic", Some(fq)),
+            ("taylor quadratic", tq),
+            ("mixed quadratic", Some(mq)),
+        ] {
+            let Some(b) = b else { continue };
+            if b.is_valid() && tt <= b.validity() {
+                prop_assert!(
+                    overlaps(b.bounds_at(tt), r),
+                    "{name} {:?} vs {r:?} at τ={tt}",
+                    b.bounds_at(tt)
+                );
+            }
         }
     }
     Ok(())
@@ -822,4 +878,3 @@ proptest! {
         check_field(&seg, &c.ray, c.t0, c.h, &c.taus)?;
     }
 }
-

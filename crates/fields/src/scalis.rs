@@ -66,7 +66,11 @@
 //! When an enclosure of `|q|` straddles `ρ*`, both are computed and joined.
 //! Measured against adaptive quadrature (`tests/fields_scalis.rs`): relative
 //! error ≤ 10⁻⁹ in `f64`; in `f32` about `10⁻⁴`–`10⁻³` where the partial
-//! fractions are used.
+//! fractions are used. The switch between the two forms and the rounding
+//! of the partial fractions make the `f64` value noisy at about `10⁻¹⁰`
+//! relative (degree 8, strongly varying radius): finite differences of
+//! values with tiny steps are meaningless there, use the closed-form
+//! derivatives.
 //!
 //! The gradient differentiates under the integral (the boundary terms vanish:
 //! `P = 0` at a clipped end, the segment ends are fixed):
@@ -133,7 +137,10 @@
 //!
 //! [`Field::taylor_linear`] of [`ScalisSegment`] and [`ScalisSkeleton`] is
 //! [`ForwardLinear::taylor`] from the point enclosure at `t₀` and that
-//! derivative enclosure.
+//! derivative enclosure; [`Field::taylor_quadratic`] (compact kernels of
+//! degree ≥ 4) is [`ForwardQuadratic::taylor`] from point enclosures of `f`
+//! and `f'` at `t₀` and an interval enclosure of the closed-form `f''`
+//! ([`ScalisSegment::second_derivative_generic`]) on `[t₀, t₁]`.
 
 // `!(x > 0)` is deliberate: it is true for NaN, which must be rejected.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -142,7 +149,7 @@ use crate::FieldError;
 use crate::bounding::SphereCone;
 use crate::homothetic::{Plain, Segment, SegmentKernel};
 use boundtrace_ia_core::{Interval, Real};
-use boundtrace_inclusion::{Field, FieldNum, ForwardLinear, Ray};
+use boundtrace_inclusion::{Field, FieldNum, ForwardLinear, ForwardQuadratic, Ray};
 
 /// Highest supported compact half-degree `m` (degree `n = 2m ≤ 8`).
 const MAX_M: usize = 4;
@@ -376,7 +383,7 @@ impl<T: Real> ScalisSegment<T> {
             self.cauchy(xc, d2)
         } else {
             match self.clip(xc, d2) {
-                Ok((poly, y0, y1)) => self.integrate(&poly, self.m, false, y0, y1) * self.scale,
+                Ok((poly, y0, y1)) => self.integrate(&poly, self.m, 0, y0, y1) * self.scale,
                 Err(zero) => zero,
             }
         }
@@ -408,14 +415,14 @@ impl<T: Real> ScalisSegment<T> {
         Ok(([c, b, N::constant(a)], y0, y1))
     }
 
-    /// `∫_{y₀}^{y₁} z^{zf}·P(y)^{pw} / τ(y)^{2m+1} dy` with `z = y − y_m`,
+    /// `∫_{y₀}^{y₁} z^{zp}·P(y)^{pw} / τ(y)^{2m+1} dy` with `z = y − y_m`,
     /// `y_m = (y₀ + y₁)/2`, `P` the quadratic `[C, B, A]` in `y`: the
     /// centred binomial series when `|q| = |Δ|·w/τ_m ≤ ρ*`, partial
     /// fractions otherwise (both, joined, when the enclosure of `|q|`
     /// straddles `ρ*`). `P` is re-centred on `y_m` *before* it is raised to
     /// the power, which avoids the cancellation of expanding `P^m` far from
     /// its support.
-    fn integrate<N: FieldNum<T>>(&self, base: &[N; 3], pw: u32, zf: bool, y0: N, y1: N) -> N {
+    fn integrate<N: FieldNum<T>>(&self, base: &[N; 3], pw: u32, zp: u32, y0: N, y1: N) -> N {
         let zero = N::constant(T::ZERO);
         let ym = (y0 + y1) * T::HALF;
         let w = (y1 - y0) * T::HALF;
@@ -429,7 +436,8 @@ impl<T: Real> ScalisSegment<T> {
         ];
         let mut poly = [zero; NC];
         let mut deg = power(&shifted, pw, &mut poly);
-        if zf {
+        let mut r = 0;
+        while r < zp && deg + 1 < NC {
             let mut i = deg + 1;
             while i > 0 {
                 if i < NC {
@@ -439,6 +447,7 @@ impl<T: Real> ScalisSegment<T> {
             }
             poly[0] = zero;
             deg += 1;
+            r += 1;
         }
         let q = w * self.delta / tm;
         let qa = q.abs().enclosure();
@@ -618,8 +627,8 @@ impl<T: Real> ScalisSegment<T> {
         };
         // ∇f = −2m·scale·[(p − q(y_m))·J0 − u·J1], J0 = ∫P^{m−1}/τ^e,
         // J1 = ∫(y − y_m)P^{m−1}/τ^e
-        let j0 = self.integrate(&poly, self.m - 1, false, y0, y1);
-        let j1 = self.integrate(&poly, self.m - 1, true, y0, y1);
+        let j0 = self.integrate(&poly, self.m - 1, 0, y0, y1);
+        let j1 = self.integrate(&poly, self.m - 1, 1, y0, y1);
         let ym = (y0 + y1) * T::HALF;
         let mid = self.seg.point_at(self.half);
         let u = self.seg.axis();
@@ -629,6 +638,82 @@ impl<T: Real> ScalisSegment<T> {
             ((p[1] - mid[1] - ym * u[1]) * j0 - j1 * u[1]) * k,
             ((p[2] - mid[2] - ym * u[2]) * j0 - j1 * u[2]) * k,
         ]
+    }
+
+    /// The second derivative of the compact density along the direction
+    /// `d`, `∂²f(p + t·d)/∂t²` at `t = 0`, in closed form and any number type
+    /// (`None` for the Cauchy kernel and for degree 2, whose density is only
+    /// `C¹`). Differentiating twice under the integral (the boundary terms
+    /// vanish for `m ≥ 2`, `P^{m−1} = 0` at a clipped end):
+    /// `f'' = 1/(Nσ^{2m}) ∫ [4m(m−1)P^{m−2}((p − q)·d)² − 2m|d|²P^{m−1}]/τ^e`,
+    /// with `(p − q(y))·d = (p − q(y_m))·d − z·(u·d)`.
+    pub fn second_derivative_generic<N: FieldNum<T>>(&self, p: [N; 3], d: [T; 3]) -> Option<N> {
+        if self.m < 2 {
+            return None;
+        }
+        let (x, d2) = self.seg.axial(p);
+        let xc = x - self.half;
+        let (poly, y0, y1) = match self.clip(xc, d2) {
+            Ok(c) => c,
+            Err(z) => return Some(z),
+        };
+        let i0 = self.integrate(&poly, self.m - 2, 0, y0, y1);
+        let i1 = self.integrate(&poly, self.m - 2, 1, y0, y1);
+        let i2 = self.integrate(&poly, self.m - 2, 2, y0, y1);
+        let j = self.integrate(&poly, self.m - 1, 0, y0, y1);
+        let ym = (y0 + y1) * T::HALF;
+        let mid = self.seg.point_at(self.half);
+        let u = self.seg.axis();
+        let ud = u[0] * d[0] + u[1] * d[1] + u[2] * d[2];
+        let dd = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+        let w0 = (p[0] - mid[0] - ym * u[0]) * d[0]
+            + (p[1] - mid[1] - ym * u[1]) * d[1]
+            + (p[2] - mid[2] - ym * u[2]) * d[2];
+        let mf = f64::from(self.m);
+        let sq = w0.sqr() * i0 - w0 * i1 * (T::TWO * ud) + i2 * (ud * ud);
+        Some(
+            (sq * T::from_f64(4.0 * mf * (mf - 1.0)) - j * (T::from_f64(2.0 * mf) * dd))
+                * self.scale,
+        )
+    }
+
+    /// A quadratic Taylor bound of the field `iso − f` along `ray` on
+    /// `[t0, t1]` (forward-inclusion paper §6.1): point enclosures of `f` and
+    /// `f'` at `t0` and an interval enclosure of `f''` on the whole interval,
+    /// all in closed form (`None` where
+    /// [`second_derivative_generic`](Self::second_derivative_generic) is).
+    pub fn field_taylor_quadratic(
+        &self,
+        ray: &Ray<T>,
+        t0: T,
+        t1: T,
+    ) -> Option<ForwardQuadratic<T>> {
+        let (f0, d1, d2) = self.taylor_parts(ray, t0, t1)?;
+        let h = (Interval::point(t1) - Interval::point(t0))
+            .lo()
+            .max(T::ZERO);
+        Some(ForwardQuadratic::taylor(
+            Interval::point(self.iso) - f0,
+            -d1,
+            -d2,
+            h,
+        ))
+    }
+
+    /// `(f(t0), f'(t0), f''([t0, t1]))` of the density as enclosures.
+    fn taylor_parts(
+        &self,
+        ray: &Ray<T>,
+        t0: T,
+        t1: T,
+    ) -> Option<(Interval<T>, Interval<T>, Interval<T>)> {
+        let d2 = self.second_derivative_generic(ray.at::<Interval<T>>(t0, t1), ray.dir)?;
+        let p0 = ray.at::<Interval<T>>(t0, t0);
+        let f0: Interval<T> = self.density(p0);
+        let g = self.gradient_generic(p0);
+        let d = ray.dir;
+        let d1 = g[0] * d[0] + g[1] * d[1] + g[2] * d[2];
+        Some((f0, d1, d2))
     }
 
     /// The normalization `g(f)` of Part III eq. 1.3 (compact) / 1.4
@@ -887,6 +972,9 @@ impl<T: Real> Field<T> for ScalisSegment<T> {
         let h = (Interval::point(t1) - Interval::point(t0)).lo();
         Some(ForwardLinear::taylor(f0, -d, h.max(T::ZERO)))
     }
+    fn taylor_quadratic(&self, ray: &Ray<T>, t0: T, t1: T) -> Option<ForwardQuadratic<T>> {
+        self.field_taylor_quadratic(ray, t0, t1)
+    }
 }
 
 /// A skeleton of `M` SCALIS segments blended by summation, as the field
@@ -978,6 +1066,33 @@ impl<T: Real, const M: usize> Field<T> for ScalisSkeleton<T, M> {
         }
         let h = (Interval::point(t1) - Interval::point(t0)).lo();
         Some(ForwardLinear::taylor(f0, -d, h.max(T::ZERO)))
+    }
+
+    fn taylor_quadratic(&self, ray: &Ray<T>, t0: T, t1: T) -> Option<ForwardQuadratic<T>> {
+        let mut f0 = Interval::point(T::ZERO);
+        let mut d1 = Interval::point(T::ZERO);
+        let mut d2 = Interval::point(T::ZERO);
+        let mut i = 0;
+        while i < M {
+            let (a, b, c) = self.segments[i].taylor_parts(ray, t0, t1)?;
+            f0 = f0 + a;
+            d1 = d1 + b;
+            d2 = d2 + c;
+            i += 1;
+        }
+        let iso = match self.segments.first() {
+            Some(s) => s.iso,
+            None => T::ONE,
+        };
+        let h = (Interval::point(t1) - Interval::point(t0))
+            .lo()
+            .max(T::ZERO);
+        Some(ForwardQuadratic::taylor(
+            Interval::point(iso) - f0,
+            -d1,
+            -d2,
+            h,
+        ))
     }
 }
 
