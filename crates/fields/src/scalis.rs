@@ -51,8 +51,11 @@
 //!   `∫_{−w}^{w} z^n dz = 2w^{n+1}/(n+1)` for even `n`, `0` for odd `n`:
 //!   `I = 2τ_m^{−e} Σ_j π_j w^{j+1} Σ_{k ≡ j (mod 2)} C(k+e−1, e−1) (−q)^k/(j+k+1)`,
 //!   `π_j` the coefficients of `P^m` in `z`. The series is truncated at the
-//!   first `K` (≤ 63) whose tail `Σ_{k>K} C(k+e−1,e−1) ρ*^k` times
-//!   `(1+ρ*)^e` is below `10⁻³ ε_mach`; since `P^m ≥ 0` and `τ ≤ (1+ρ*)τ_m`,
+//!   first `K` (≤ 63) whose tail `Σ_{k>K} C(k+e−1,e−1) ρ^k` times
+//!   `(1+ρ)^e` is below `10⁻³ ε_mach`, for the smallest of the precomputed
+//!   tiers `ρ ∈ ρ*·{0, 1/64, 1/16, 1/4, 1/2, 1}` that bounds `|q|` (a
+//!   constant radius needs one term, `|q| ≤ ρ*/64` about ten); since
+//!   `P^m ≥ 0` and `τ ≤ (1+ρ)τ_m`,
 //!   this (plus the rounding of the constant coefficients) bounds the
 //!   relative error `δ`, and the result is widened by `±2δ` relative with
 //!   [`FieldNum::join`] so that bottom-up bounds stay sound (point types are
@@ -202,12 +205,11 @@ pub struct ScalisSegment<T> {
     delta: T,
     /// Density scale: `1/(N σ^{2m})` (compact), `(1 + σ²)c/2` (Cauchy).
     scale: T,
-    /// Series terms `K + 1` (`0`: partial fractions).
-    terms: u32,
+    /// Series tiers: `(|q| bound, terms K + 1, relative widening 2δ)`,
+    /// increasing bounds up to `ρ*` (compact kernels only).
+    tiers: [(T, u32, T); TIERS],
     /// `τ_c^{−e} C(k+e−1, e−1) (−Δ/τ_c)^k`.
     beta: [T; MAX_TERMS],
-    /// Relative widening `2δ` of the series.
-    tol: T,
     /// `max |k'|`.
     kprime_max: T,
     /// `1/N`.
@@ -222,6 +224,38 @@ fn binom(n: u32, k: u32) -> f64 {
         i += 1;
     }
     r
+}
+
+/// Number of series tiers.
+const TIERS: usize = 6;
+/// Tier bounds as fractions of `ρ*`; the first tier is `q = 0` (constant
+/// radius).
+const TIER_FRACTIONS: [f64; TIERS] = [0.0, 1.0 / 64.0, 1.0 / 16.0, 1.0 / 4.0, 1.0 / 2.0, 1.0];
+
+/// `(K + 1, 2δ)` for the binomial series of `(1 + x)^{−e}`, `|x| ≤ ρ`: the
+/// first `K` whose tail `Σ_{k>K} C(k+e−1, e−1) ρ^k` (bounded by the next
+/// term over `1 − ratio`, the term ratios `ρ(k+e)/(k+1)` decreasing) times
+/// `(1+ρ)^e` is below `10⁻³ ε`, and the relative error `δ` it leaves with the
+/// rounding of the coefficients (module docs).
+fn series_tier(rho: f64, e: u32, eps: f64) -> (u32, f64) {
+    let target = eps * 1e-3;
+    let grow_e = (1.0 + rho).powi(e as i32);
+    let mut k = 0u32;
+    loop {
+        let next = binom(k + e, e - 1) * rho.powi(k as i32 + 1);
+        let ratio = rho * f64::from(k + 1 + e) / f64::from(k + 2);
+        let tail = if ratio < 1.0 {
+            next / (1.0 - ratio)
+        } else {
+            f64::INFINITY
+        };
+        if (ratio < 1.0 && tail * grow_e <= target) || k as usize + 1 >= MAX_TERMS {
+            let round = 8.0 * f64::from(k + 3 + e) * eps;
+            let delta_rel = (tail + round * (1.0 - rho).powi(-(e as i32))) * grow_e;
+            return (k + 1, 2.0 * delta_rel * 1.01);
+        }
+        k += 1;
+    }
 }
 
 impl<T: Real> ScalisSegment<T> {
@@ -258,9 +292,8 @@ impl<T: Real> ScalisSegment<T> {
             tc,
             delta,
             scale: T::ZERO,
-            terms: 0,
+            tiers: [(T::ZERO, 0, T::ZERO); TIERS],
             beta: [T::ZERO; MAX_TERMS],
-            tol: T::ZERO,
             kprime_max: T::ZERO,
             inv_norm: T::ZERO,
         };
@@ -307,33 +340,20 @@ impl<T: Real> ScalisSegment<T> {
                     2.0 * mf * h2.sqrt() * (1.0 - h2 / (sf * sf)).powf(mf - 1.0) / (sf * sf)
                         * (1.0 + 1e-12),
                 );
-                // series terms for |q| ≤ ρ* (module docs)
-                let rho = series_limit::<T>();
+                // series terms per tier of |q| ≤ ρ* (module docs)
                 let e = 2 * m + 1;
-                let target = T::EPSILON.as_f64() * 1e-3;
-                let grow_e = (1.0 + rho).powi(e as i32);
-                let mut k = 0u32;
-                loop {
-                    // tail Σ_{j>k} C(j+e−1, e−1) ρ^j ≤ next/(1 − ratio): the
-                    // term ratios ρ(j+e)/(j+1) decrease with j
-                    let next = binom(k + e, e - 1) * rho.powi(k as i32 + 1);
-                    let ratio = rho * f64::from(k + 1 + e) / f64::from(k + 2);
-                    let tail = if ratio < 1.0 {
-                        next / (1.0 - ratio)
-                    } else {
-                        f64::INFINITY
-                    };
-                    if (ratio < 1.0 && tail * grow_e <= target) || k as usize + 1 >= MAX_TERMS {
-                        let round = 8.0 * f64::from(k + 3 + e) * T::EPSILON.as_f64();
-                        let delta_rel = (tail + round * (1.0 - rho).powi(-(e as i32))) * grow_e;
-                        out.tol = T::from_f64(2.0 * delta_rel * 1.01);
-                        break;
-                    }
-                    k += 1;
+                let rho_max = series_limit::<T>();
+                let mut i = 0;
+                let mut kmax = 0;
+                while i < TIERS {
+                    let rho = rho_max * TIER_FRACTIONS[i];
+                    let (terms, tol) = series_tier(rho, e, T::EPSILON.as_f64());
+                    out.tiers[i] = (T::from_f64(rho), terms, T::from_f64(tol));
+                    kmax = kmax.max(terms);
+                    i += 1;
                 }
-                out.terms = k + 1;
                 let mut j = 0u32;
-                while j <= k {
+                while j < kmax {
                     out.beta[j as usize] = T::from_f64(binom(j + e - 1, e - 1));
                     j += 1;
                 }
@@ -453,11 +473,11 @@ impl<T: Real> ScalisSegment<T> {
         let qa = q.abs().enclosure();
         let lim = T::from_f64(series_limit::<T>());
         if qa.hi() <= lim {
-            self.integrate_series(&poly, deg, w, tm, q)
+            self.integrate_series(&poly, deg, w, tm, q, qa.hi())
         } else if qa.lo() > lim {
             self.integrate_fractions(&poly, deg, w, tm)
         } else {
-            self.integrate_series(&poly, deg, w, tm, q)
+            self.integrate_series(&poly, deg, w, tm, q, lim)
                 .join(self.integrate_fractions(&poly, deg, w, tm))
         }
     }
@@ -467,12 +487,30 @@ impl<T: Real> ScalisSegment<T> {
     /// `∫_{−w}^{w} z^n dz = 2w^{n+1}/(n+1)` for even `n` (0 for odd):
     /// `I = 2τ_m^{−e} Σ_j π_j w^{j+1} Σ_{k ≡ j (2)} C(k+e−1,e−1) q^k/(j+k+1)`
     /// with `q = −Δw/τ_m`.
-    fn integrate_series<N: FieldNum<T>>(&self, pi: &[N; NC], deg: usize, w: N, tm: N, q: N) -> N {
+    fn integrate_series<N: FieldNum<T>>(
+        &self,
+        pi: &[N; NC],
+        deg: usize,
+        w: N,
+        tm: N,
+        q: N,
+        qmax: T,
+    ) -> N {
         let zero = N::constant(T::ZERO);
         let e = 2 * self.m as i32 + 1;
         let q = -q;
         let q2 = q.sqr();
-        let kmax = self.terms as usize; // k < kmax
+        // the first tier whose bound covers |q| (the last one is ρ* ≥ qmax)
+        let mut tier = self.tiers[TIERS - 1];
+        let mut ti = 0;
+        while ti < TIERS {
+            if qmax <= self.tiers[ti].0 {
+                tier = self.tiers[ti];
+                break;
+            }
+            ti += 1;
+        }
+        let (kmax, tol) = (tier.1 as usize, tier.2); // k < kmax
         let mut acc = zero;
         let mut wp = w; // w^{j+1}
         let mut j = 0usize;
@@ -498,8 +536,7 @@ impl<T: Real> ScalisSegment<T> {
         }
         let r = acc * tm.recip().powi(e) * T::TWO;
         // point types keep `r` (`join` returns `self` for them)
-        r.join(r * (-self.tol + T::ONE))
-            .join(r * (T::ONE + self.tol))
+        r.join(r * (-tol + T::ONE)).join(r * (T::ONE + tol))
     }
 
     /// Partial fractions in `τ = τ_m + Δz` (module docs; `poly` in `z`).
