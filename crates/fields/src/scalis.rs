@@ -145,6 +145,18 @@
 //! and `f'` at `t₀` and an interval enclosure of the closed-form `f''`
 //! ([`ScalisSegment::second_derivative_generic`]) on `[t₀, t₁]`.
 
+//!
+//! # Cost
+//!
+//! Measured once (release, x86-64, one segment of length 3, compact degree
+//! 6 / Cauchy degree 3): `f64` density about 120 ns (constant radius), 330 ns
+//! (radius 0.3 → 0.7), 40 ns (Cauchy); `Interval` at a point 2.5–10 µs
+//! (compact), 0.8 µs (Cauchy); a bottom-up [`ForwardQuadratic`] of the
+//! closed form 0.3–0.6 ms (compact), 40 µs (Cauchy) — the series is a long
+//! polynomial in forward arithmetic. For forward bounds prefer the Taylor
+//! bounds ([`BoundKind::Taylor`](boundtrace_inclusion::BoundKind::Taylor)),
+//! built from interval evaluations of the closed-form derivatives.
+
 // `!(x > 0)` is deliberate: it is true for NaN, which must be rejected.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
