@@ -23,8 +23,8 @@ step "cargo test --workspace"
 cargo test --workspace
 
 step "cargo test boundtrace-ia-core, -inclusion and -fields with the libm back end"
-cargo test -p boundtrace-ia-core -p boundtrace-inclusion -p boundtrace-fields \
-    --no-default-features --features libm
+cargo test -p boundtrace-ia-core -p boundtrace-inclusion --no-default-features --features libm
+cargo test -p boundtrace-fields --no-default-features --features libm,alloc
 
 step "cargo doc (deny warnings)"
 RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps
