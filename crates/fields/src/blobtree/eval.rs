@@ -68,6 +68,45 @@ pub(crate) fn node_data(params: &[f32], w: NodeWord, offset: u32) -> Option<&[f3
     param_slice(params, offset, node_vec4s(w)?)
 }
 
+/// Alg. 1 over a post-order program of `len` nodes whose node words and
+/// parameter slices are given by `node(i)`, with a fixed stack of `S`
+/// entries: the interpreter shared by the full tree and the pruned views.
+/// A node that does not decode or a stack overflow gives [`corrupt`]
+/// (validated data never does).
+#[inline]
+pub(crate) fn eval_program<'d, T: Real, N: FieldNum<T>, const S: usize>(
+    len: usize,
+    p: [N; 3],
+    node: impl Fn(usize) -> Option<(NodeWord, Option<&'d [f32]>)>,
+) -> N {
+    let mut stack = [N::constant(T::ZERO); S];
+    let mut sp = 0usize;
+    let mut i = 0usize;
+    while i < len {
+        let Some((w, d)) = node(i) else {
+            return corrupt();
+        };
+        if w.is_leaf() {
+            let v = primitive_node::<T, N>(w, d, p);
+            match stack.get_mut(sp) {
+                Some(slot) => *slot = v,
+                None => return corrupt(),
+            }
+            sp += 1;
+        } else {
+            if sp < 2 {
+                return corrupt();
+            }
+            let f1 = stack[sp - 1];
+            let f0 = stack[sp - 2];
+            sp -= 1;
+            stack[sp - 1] = operator_node::<T, N>(w, d, f0, f1);
+        }
+        i += 1;
+    }
+    if sp == 1 { stack[0] } else { corrupt() }
+}
+
 /// `max(L₀, L₁) · factor` per operator, `L_prim` per primitive: a bound of
 /// the Lipschitz constant of a post-order program whose node words and
 /// parameter slices are given by `node(i)`, `i < len`. `None` when the
@@ -105,35 +144,12 @@ impl<'a> BlobtreeRef<'a> {
     /// [`Field::eval`].
     #[inline]
     pub fn eval_full<T: Real, N: FieldNum<T>>(&self, p: [N; 3]) -> N {
-        let zero = N::constant(T::ZERO);
-        let mut stack = [zero; STACK_CAPACITY];
-        let mut sp = 0usize;
         let nodes = self.nodes();
         let params = self.params();
-        let n = self.len();
-        let mut i = 0usize;
-        while i < n {
-            let w = NodeWord(nodes[2 * i]);
-            let d = node_data(params, w, nodes[2 * i + 1]);
-            if w.is_leaf() {
-                let v = primitive_node::<T, N>(w, d, p);
-                match stack.get_mut(sp) {
-                    Some(slot) => *slot = v,
-                    None => return corrupt(),
-                }
-                sp += 1;
-            } else {
-                if sp < 2 {
-                    return corrupt();
-                }
-                let f1 = stack[sp - 1];
-                let f0 = stack[sp - 2];
-                sp -= 1;
-                stack[sp - 1] = operator_node::<T, N>(w, d, f0, f1);
-            }
-            i += 1;
-        }
-        if sp == 1 { stack[0] } else { corrupt() }
+        eval_program::<T, N, STACK_CAPACITY>(self.len(), p, |i| {
+            let w = NodeWord(*nodes.get(2 * i)?);
+            Some((w, node_data(params, w, *nodes.get(2 * i + 1)?)))
+        })
     }
 
     /// The local field `f_𝒜` at `p` by a direct sparse traversal (paper

@@ -1,9 +1,7 @@
 //! Pruned tree views (paper §6.2, Fig. 11, Alg. 4).
 
 use super::encoding::{BlobtreeRef, NodeWord};
-use super::eval::{
-    corrupt, lipschitz_program, node_data, node_vec4s, operator_node, primitive_node,
-};
+use super::eval::{eval_program, lipschitz_program, node_data, node_vec4s};
 use super::traversal::{SparseVisitor, sparse_traverse};
 use crate::FieldError;
 use boundtrace_ia_core::Real;
@@ -259,32 +257,9 @@ impl<T: Real, const V: usize, const D: usize, const S: usize> Field<T> for Prune
         if self.len == 0 {
             return N::constant(T::INFINITY);
         }
-        let mut stack = [N::constant(T::ZERO); S];
-        let mut sp = 0usize;
-        let mut i = 0usize;
-        while i < self.len as usize {
-            let Some((w, d)) = self.data(i) else {
-                return corrupt();
-            };
-            if w.is_leaf() {
-                let v = primitive_node::<T, N>(w, Some(d), p);
-                match stack.get_mut(sp) {
-                    Some(slot) => *slot = v,
-                    None => return corrupt(),
-                }
-                sp += 1;
-            } else {
-                if sp < 2 {
-                    return corrupt();
-                }
-                let f1 = stack[sp - 1];
-                let f0 = stack[sp - 2];
-                sp -= 1;
-                stack[sp - 1] = operator_node::<T, N>(w, Some(d), f0, f1);
-            }
-            i += 1;
-        }
-        if sp == 1 { stack[0] } else { corrupt() }
+        eval_program::<T, N, S>(self.len as usize, p, |i| {
+            self.data(i).map(|(w, d)| (w, Some(d)))
+        })
     }
 
     fn lipschitz(&self) -> Option<T> {
