@@ -18,8 +18,10 @@
 //! | [`ia_core`] | `boundtrace-ia-core` | [`Real`](ia_core::Real), [`Interval`](ia_core::Interval), [`Affine`](ia_core::Affine) with portable outward rounding |
 //! | [`inclusion`] | `boundtrace-inclusion` | [`ForwardLinear`](inclusion::ForwardLinear), [`ForwardQuadratic`](inclusion::ForwardQuadratic), [`Jet`](inclusion::Jet), [`FieldNum`](inclusion::FieldNum), [`Field`](inclusion::Field) |
 //! | [`fields`] | `boundtrace-fields` | kernels, blobs, SCALIS segments, HRBF, SDF primitives, operators, flat blobtrees |
+//! | [`tracer`] | `boundtrace-tracer` | sphere/segment/forward marching, interval/affine bisection, opaque and transparent modes, statistics, cameras, images, standard scenes |
 #![cfg_attr(not(feature = "std"), no_std)]
 
 pub use boundtrace_fields as fields;
 pub use boundtrace_ia_core as ia_core;
 pub use boundtrace_inclusion as inclusion;
+pub use boundtrace_tracer as tracer;

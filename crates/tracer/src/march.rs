@@ -1,0 +1,17 @@
+//! Marching methods (in progress).
+use crate::method::{Method, Mode, Params};
+use crate::trace::{Root, Trace};
+use boundtrace_ia_core::Real;
+use boundtrace_inclusion::{Field, Ray};
+
+pub(crate) fn march<T: Real, F: Field<T>>(
+    _field: &F,
+    _ray: &Ray<T>,
+    _span: [T; 2],
+    _method: Method,
+    _mode: Mode,
+    _params: &Params<T>,
+    _roots: &mut [Root<T>],
+) -> Trace<T> {
+    Trace { roots: 0, status: crate::Status::Unsupported, t_reached: _span[0], stats: Default::default() }
+}

@@ -1,0 +1,178 @@
+//! One ray: roots, per-ray statistics and the [`trace`] entry point.
+
+use crate::method::{Method, Mode, Params};
+use crate::{bisect, march};
+use boundtrace_ia_core::Real;
+use boundtrace_inclusion::{Field, Ray, gradient};
+
+/// How the field's sign changes at a root, seen along the ray.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[repr(u32)]
+pub enum Side {
+    /// From outside (`f > 0`) to inside (`f < 0`).
+    Entering = 0,
+    /// From inside (`f < 0`) to outside (`f > 0`).
+    Leaving = 1,
+    /// No sign change could be found within `eps`, but the field could not
+    /// be proven nonzero there either: the ray touches (or grazes within
+    /// rounding of) the surface.
+    Touch = 2,
+}
+
+/// A root along the ray.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C)]
+pub struct Root<T> {
+    /// The ray parameter, within `eps` of a true root (for [`Side::Touch`],
+    /// of a point where the field could not be proven nonzero).
+    pub t: T,
+    /// How the sign changes there.
+    pub side: Side,
+}
+
+/// Per-ray statistics (the papers' cost measures).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[repr(C)]
+pub struct RayStats {
+    /// Iterations of the method's main loop: marching steps, or intervals
+    /// examined by a bisection.
+    pub steps: u32,
+    /// Point evaluations of the field (`f` at one `t`, in floats).
+    pub field_evals: u32,
+    /// Bound evaluations (a forward, interval or affine enclosure over an
+    /// interval; a Taylor bound counts as one, "mixed" as two).
+    pub bound_evals: u32,
+}
+
+impl RayStats {
+    /// Component-wise sum.
+    pub fn add(self, o: Self) -> Self {
+        Self {
+            steps: self.steps.saturating_add(o.steps),
+            field_evals: self.field_evals.saturating_add(o.field_evals),
+            bound_evals: self.bound_evals.saturating_add(o.bound_evals),
+        }
+    }
+}
+
+/// Why the tracing of a ray stopped.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[repr(u32)]
+pub enum Status {
+    /// The ray was processed: the first root was found (opaque), or the
+    /// whole span was processed (every root found, or there is none).
+    #[default]
+    Finished = 0,
+    /// `max_steps` ran out at [`Trace::t_reached`]; no root is missing
+    /// before that point.
+    MaxSteps = 1,
+    /// Transparent mode: the root buffer is full; no root is missing before
+    /// [`Trace::t_reached`], tracing may resume from there.
+    BufferFull = 2,
+    /// The method needs what the field lacks (`sphere` a global Lipschitz
+    /// bound, `*-taylor` a Taylor bound), or the parameters are invalid;
+    /// nothing was traced.
+    Unsupported = 3,
+}
+
+/// The result of tracing one ray; its roots are in the caller's buffer.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C)]
+pub struct Trace<T> {
+    /// How many roots were written to the buffer (in increasing `t`).
+    pub roots: u32,
+    /// Why tracing stopped.
+    pub status: Status,
+    /// The ray parameter up to which the span is processed: no root in
+    /// `[t0, t_reached)` is missing from the buffer.
+    pub t_reached: T,
+    /// The cost.
+    pub stats: RayStats,
+}
+
+/// Traces `ray` on `span = [t0, t1]` with `method`: in [`Mode::Opaque`]
+/// the first root, in [`Mode::Transparent`] every root, written to `roots`
+/// in increasing `t` (opaque mode needs one slot). Allocation- and
+/// recursion-free.
+///
+/// Soundness: no method ever steps past a root. A method that cannot
+/// finish says why in [`Trace::status`], with the point reached.
+///
+/// ```
+/// use boundtrace_inclusion::{Field, FieldNum, Ray};
+/// use boundtrace_tracer::{Method, Mode, Params, Root, Side, Status, trace};
+///
+/// struct Ball; // the unit ball as a signed distance
+/// impl Field<f64> for Ball {
+///     fn eval<N: FieldNum<f64>>(&self, p: [N; 3]) -> N {
+///         (p[0].sqr() + p[1].sqr() + p[2].sqr()).sqrt() - 1.0
+///     }
+///     fn lipschitz(&self) -> Option<f64> { Some(1.0) }
+/// }
+///
+/// let ray = Ray::new([-3.0, 0.0, 0.0], [1.0, 0.0, 0.0]);
+/// let params = Params::new();
+/// let mut roots = [Root { t: 0.0, side: Side::Touch }; 4];
+/// for method in Method::ALL {
+///     if method == Method::LinearTaylor || method == Method::QuadraticTaylor {
+///         continue; // the ball has no Taylor bound: Status::Unsupported
+///     }
+///     let tr = trace(&Ball, &ray, [0.0, 6.0], method, Mode::Transparent, &params, &mut roots);
+///     assert_eq!(tr.status, Status::Finished, "{method}");
+///     assert_eq!(tr.roots, 2);
+///     assert!((roots[0].t - 2.0).abs() <= params.eps && roots[0].side == Side::Entering);
+///     assert!((roots[1].t - 4.0).abs() <= params.eps && roots[1].side == Side::Leaving);
+/// }
+/// ```
+pub fn trace<T: Real, F: Field<T>>(
+    field: &F,
+    ray: &Ray<T>,
+    span: [T; 2],
+    method: Method,
+    mode: Mode,
+    params: &Params<T>,
+    roots: &mut [Root<T>],
+) -> Trace<T> {
+    let unsupported = Trace {
+        roots: 0,
+        status: Status::Unsupported,
+        t_reached: span[0],
+        stats: RayStats::default(),
+    };
+    if params.validate().is_err() || !(span[0] <= span[1]) || roots.is_empty() {
+        return unsupported;
+    }
+    match method {
+        Method::Interval => bisect::interval(field, ray, span, mode, params, roots),
+        Method::Affine => bisect::affine(field, ray, span, mode, params, roots),
+        _ => march::march(field, ray, span, method, mode, params, roots),
+    }
+}
+
+/// The first root of `ray` on `span` (opaque mode), with the trace record.
+pub fn first_root<T: Real, F: Field<T>>(
+    field: &F,
+    ray: &Ray<T>,
+    span: [T; 2],
+    method: Method,
+    params: &Params<T>,
+) -> (Option<Root<T>>, Trace<T>) {
+    let mut buf = [Root {
+        t: T::ZERO,
+        side: Side::Touch,
+    }];
+    let tr = trace(field, ray, span, method, Mode::Opaque, params, &mut buf);
+    ((tr.roots > 0).then_some(buf[0]), tr)
+}
+
+/// The unit surface normal at `p` (normalized gradient, pointing outside),
+/// or `[0, 0, 0]` where the gradient vanishes or is not finite.
+pub fn normal<T: Real, F: Field<T>>(field: &F, p: [T; 3]) -> [T; 3] {
+    let g = gradient(field, p);
+    let n2 = g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
+    if !(n2 > T::ZERO) || !n2.is_finite() {
+        return [T::ZERO; 3];
+    }
+    let inv = T::ONE / n2.sqrt();
+    [g[0] * inv, g[1] * inv, g[2] * inv]
+}
