@@ -601,7 +601,7 @@ fn case() -> impl Strategy<Value = Case> {
         })
 }
 
-fn build<const M: usize>(c: &Case) -> Option<ScalisSkeleton<f64, M>> {
+fn build<const M: usize>(c: &Case) -> Option<ScalisSkeleton<f64, [ScalisSegment<f64>; M]>> {
     let mk = |((a, ra), (b, rb)): SegSpec| {
         ScalisSegment::new(Segment::new(a, ra, b, rb).ok()?, c.kernel, 1.0).ok()
     };
@@ -638,7 +638,10 @@ proptest! {
 
 /// Every bound of `sk` on the case's ray interval against sound point
 /// enclosures at sampled parameters.
-fn check<const M: usize>(c: &Case, sk: &ScalisSkeleton<f64, M>) -> Result<(), TestCaseError> {
+fn check<const M: usize>(
+    c: &Case,
+    sk: &ScalisSkeleton<f64, [ScalisSegment<f64>; M]>,
+) -> Result<(), TestCaseError> {
     if c.ray.speed() <= 1e-3 || c.ray.speed().is_nan() {
         return Ok(());
     }

@@ -15,7 +15,10 @@
 //!   [`Sum`] (`d = d_a + d_b`, so `f = f_a + f_b − iso`), [`Union`]
 //!   (`d = max(d_a, d_b)`, so `f = min(f_a, f_b)`), [`Intersection`]
 //!   (`d = min`, `f = max`) and [`Ricci`]
-//!   (`d = (d_aⁿ + d_bⁿ)^{1/n}` with `d = max(iso − f, 0)`).
+//!   (`d = (d_aⁿ + d_bⁿ)^{1/n}` with `d = max(iso − f, 0)`);
+//! - [`UnionAll`]: the n-ary sharp union `f = minᵢ fᵢ` over any storage of
+//!   children of one type (forward-inclusion paper eq. 20: the maximum of
+//!   blob groups' densities).
 //!
 //! # Bounds
 //!
@@ -42,6 +45,7 @@
 use crate::FieldError;
 use boundtrace_ia_core::Real;
 use boundtrace_inclusion::{Field, FieldNum, ForwardLinear, ForwardQuadratic, Ray};
+use core::marker::PhantomData;
 
 /// `Σ xᵢ` over a fixed array (`0` for `K = 0`).
 #[inline]
@@ -264,6 +268,91 @@ impl<T: Real, A: Field<T>, B: Field<T>> Field<T> for Ricci<T, A, B> {
     }
 }
 
+/// The n-ary sharp union of fields of one type: `f = minᵢ fᵢ` (densities:
+/// `d = maxᵢ dᵢ`, forward-inclusion paper eq. 20). `S` is any storage of
+/// children (`[F; K]`, a slice, a `Vec`). Build with [`UnionAll::new`].
+///
+/// Bounds: bottom-up through `min`; Taylor bounds are the `min` of the
+/// children's (paper §5.2/§6.2 rule for `min`), `None` when a child has
+/// none; the Lipschitz bound is the largest child's.
+///
+/// ```
+/// use boundtrace_fields::density::UnionAll;
+/// use boundtrace_fields::{Blobs, Kernel, PointBlob};
+/// use boundtrace_inclusion::{Field, Ray};
+///
+/// let k = Kernel::compact(6, 1.0).unwrap();
+/// let group = |x: f64| Blobs::new(0.5, [PointBlob::new([x, 0.0, 0.0], 1.0, k).unwrap()]).unwrap();
+/// let u = UnionAll::new(vec![group(-1.0), group(1.0)]).unwrap();
+/// assert_eq!(u.eval([1.0f64, 0.0, 0.0]), -0.5); // inside the second group
+/// let ray = Ray::new([-3.0, 0.0, 0.0], [1.0, 0.0, 0.0]);
+/// assert!(u.taylor_quadratic(&ray, 0.0, 1.0).is_some());
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct UnionAll<F, S> {
+    children: S,
+    _child: PhantomData<F>,
+}
+
+impl<F, S: AsRef<[F]>> UnionAll<F, S> {
+    /// The union of `children`.
+    ///
+    /// # Errors
+    /// [`FieldError::InvalidParameter`] when there is no child (the union
+    /// of nothing has no finite field).
+    pub fn new(children: S) -> Result<Self, FieldError> {
+        if children.as_ref().is_empty() {
+            return Err(FieldError::InvalidParameter {
+                name: "children",
+                reason: "a union needs at least one child",
+            });
+        }
+        Ok(Self {
+            children,
+            _child: PhantomData,
+        })
+    }
+
+    /// The children.
+    #[inline]
+    pub fn children(&self) -> &[F] {
+        self.children.as_ref()
+    }
+}
+
+impl<T: Real, F: Field<T>, S: AsRef<[F]>> Field<T> for UnionAll<F, S> {
+    fn eval<N: FieldNum<T>>(&self, p: [N; 3]) -> N {
+        let mut it = self.children.as_ref().iter();
+        let Some(first) = it.next() else {
+            return N::constant(T::INFINITY);
+        };
+        it.fold(first.eval(p), |acc, c| acc.min(c.eval(p)))
+    }
+    fn lipschitz(&self) -> Option<T> {
+        let mut l = T::ZERO;
+        for c in self.children.as_ref() {
+            l = l.max(c.lipschitz()?);
+        }
+        Some(l)
+    }
+    fn taylor_linear(&self, ray: &Ray<T>, t0: T, t1: T) -> Option<ForwardLinear<T>> {
+        let mut it = self.children.as_ref().iter();
+        let mut acc = it.next()?.taylor_linear(ray, t0, t1)?;
+        for c in it {
+            acc = acc.min(c.taylor_linear(ray, t0, t1)?);
+        }
+        Some(acc)
+    }
+    fn taylor_quadratic(&self, ray: &Ray<T>, t0: T, t1: T) -> Option<ForwardQuadratic<T>> {
+        let mut it = self.children.as_ref().iter();
+        let mut acc = it.next()?.taylor_quadratic(ray, t0, t1)?;
+        for c in it {
+            acc = acc.min(c.taylor_quadratic(ray, t0, t1)?);
+        }
+        Some(acc)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -343,5 +432,37 @@ mod tests {
             Interval::point(0.0),
         ]);
         assert!(iv.contains(v));
+    }
+
+    #[test]
+    fn union_all_is_the_minimum_with_bounds() {
+        use crate::blob::{Blobs, PointBlob};
+        use crate::kernel::Kernel;
+        let k = Kernel::compact(6, 1.0f64).unwrap();
+        let g = |c: [f64; 3]| Blobs::new(0.4, [PointBlob::new(c, 1.0, k).unwrap()]).unwrap();
+        let kids = [g([-0.5, 0.0, 0.0]), g([0.5, 0.1, 0.0]), g([0.0, 0.6, 0.1])];
+        let u = UnionAll::new(kids).unwrap();
+        let ray = Ray::new([-2.0, 0.05, 0.02], [1.0, 0.1, 0.0]);
+        let lip = u.lipschitz().unwrap();
+        assert_eq!(lip, kids[0].lipschitz().unwrap());
+        for i in 0..30 {
+            let t0 = 0.12 * f64::from(i);
+            let t1 = t0 + 0.3;
+            let lq = u.taylor_quadratic(&ray, t0, t1).unwrap();
+            let ll = u.taylor_linear(&ray, t0, t1).unwrap();
+            for j in 0..=10 {
+                let tau = 0.03 * f64::from(j);
+                let p: [f64; 3] = ray.at(t0 + tau, t0 + tau);
+                let v = u.eval(p);
+                let m = kids.iter().map(|c| c.eval(p)).fold(f64::INFINITY, f64::min);
+                assert_eq!(v, m);
+                assert!(lq.bounds_at(tau).contains(v) && ll.bounds_at(tau).contains(v));
+            }
+        }
+        assert!(UnionAll::<Ball, [Ball; 0]>::new([]).is_err());
+        // a child without Taylor bounds gives none
+        let balls = UnionAll::new([Ball(1.0, [0.0; 3])]).unwrap();
+        assert!(balls.taylor_linear(&ray, 0.0, 1.0).is_none());
+        assert_eq!(balls.lipschitz(), Some(10.0));
     }
 }

@@ -226,6 +226,8 @@ pub struct ScalisSegment<T> {
     kprime_max: T,
     /// `1/N`.
     inv_norm: T,
+    /// The support box `[lo, hi]` (compact kernels; infinite for Cauchy).
+    support_box: [[T; 3]; 2],
 }
 
 fn binom(n: u32, k: u32) -> f64 {
@@ -308,6 +310,7 @@ impl<T: Real> ScalisSegment<T> {
             beta: [T::ZERO; MAX_TERMS],
             kprime_max: T::ZERO,
             inv_norm: T::ZERO,
+            support_box: [[T::NEG_INFINITY; 3], [T::INFINITY; 3]],
         };
         match kernel {
             SegmentKernel::CompactPolynomial { degree, .. } => {
@@ -370,6 +373,12 @@ impl<T: Real> ScalisSegment<T> {
                     j += 1;
                 }
                 let _ = (tcf, df, hf);
+                let reach = Interval::point(sigma) * segment.ra().max(segment.rb());
+                let (a, b) = (segment.a(), segment.b());
+                out.support_box = [
+                    [0, 1, 2].map(|k| (Interval::point(a[k].min(b[k])) - reach).lo()),
+                    [0, 1, 2].map(|k| (Interval::point(a[k].max(b[k])) + reach).hi()),
+                ];
             }
             SegmentKernel::Cauchy { degree, .. } => {
                 if degree != 3 {
@@ -1026,30 +1035,109 @@ impl<T: Real> Field<T> for ScalisSegment<T> {
     }
 }
 
-/// A skeleton of `M` SCALIS segments blended by summation, as the field
-/// `iso − Σ fᵢ(p)` (all segments share the kernel and iso-value of the
-/// first one's normalization; see [`ScalisSegment`]).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ScalisSkeleton<T, const M: usize> {
-    /// The segments.
-    pub segments: [ScalisSegment<T>; M],
+/// Whether the box enclosure `e` of the query point(s) certainly misses
+/// the axis-aligned box `[lo, hi]` (NaN or empty enclosures never miss).
+#[inline]
+fn box_misses<T: Real>(e: &[Interval<T>; 3], lo: &[T; 3], hi: &[T; 3]) -> bool {
+    let mut k = 0;
+    while k < 3 {
+        if !e[k].is_empty() && (e[k].hi() < lo[k] || e[k].lo() > hi[k]) {
+            return true;
+        }
+        k += 1;
+    }
+    false
 }
 
-impl<T: Real, const M: usize> ScalisSkeleton<T, M> {
+/// The enclosures of a point's coordinates.
+#[inline]
+fn enclose3<T: Real, N: FieldNum<T>>(p: &[N; 3]) -> [Interval<T>; 3] {
+    [p[0].enclosure(), p[1].enclosure(), p[2].enclosure()]
+}
+
+impl<T: Real> ScalisSegment<T> {
+    /// The axis-aligned box `[lo, hi]` outside of which the density is
+    /// exactly `0` (compact kernels: the segment's box grown by
+    /// `σ·max(r_a, r_b)`, rounded outward); `None` for the Cauchy kernel
+    /// (infinite support).
+    #[inline]
+    pub fn support_box(&self) -> Option<[[T; 3]; 2]> {
+        if self.m == 0 {
+            None
+        } else {
+            Some(self.support_box)
+        }
+    }
+
+    /// Whether the enclosure `e` of the query point(s) certainly misses the
+    /// compact support (so the density, its gradient and its second
+    /// derivative are exactly `0` there); always `false` for Cauchy.
+    #[inline]
+    fn misses(&self, e: &[Interval<T>; 3]) -> bool {
+        self.m != 0 && box_misses(e, &self.support_box[0], &self.support_box[1])
+    }
+
+    /// A global Lipschitz bound of the density (thesis Part III ch. 2
+    /// §2.1.1 over the whole segment): `|∇f| ≤ 1/N · max|k'| · ∫₀ᴸ ds/τ²
+    /// = max|k'|·L / (N·r_a·r_b)` (since `|∇h| = 1/τ`), rounded up.
+    pub fn lipschitz_bound(&self) -> T {
+        let iv = Interval::point;
+        let l = iv(self.inv_norm) * self.kprime_max * self.seg.length()
+            / (iv(self.seg.ra()) * self.seg.rb())
+            * T::from_f64(1.0 + 1e-6);
+        l.hi()
+    }
+}
+
+/// A skeleton of SCALIS segments blended by summation, as the field
+/// `iso − Σ fᵢ(p)` (all segments share the kernel and iso-value of the
+/// first one's normalization; see [`ScalisSegment`]).
+///
+/// `S` is any storage of segments: a fixed array `[ScalisSegment<T>; K]`, a
+/// slice or a `Vec` (like [`Blobs`](crate::blob::Blobs)). With a compact
+/// kernel, evaluation and every bound **skip the segments whose support
+/// box** ([`ScalisSegment::support_box`]) the query's enclosure
+/// ([`FieldNum::enclosure`] of the point coordinates, or of the ray
+/// segment for the Taylor bounds) cannot reach: their density is exactly
+/// `0` there, so the result is the same (a constant `0` term) and large
+/// skeletons cost what their nearby segments cost.
+///
+/// ```
+/// use boundtrace_fields::homothetic::{Segment, SegmentKernel};
+/// use boundtrace_fields::scalis::{ScalisSegment, ScalisSkeleton};
+/// use boundtrace_inclusion::{Field, FieldNum};
+///
+/// let k = SegmentKernel::compact_polynomial(6, 2.0).unwrap();
+/// let seg = |x: f64| {
+///     let s = Segment::new([x, 0.0, 0.0], 0.3, [x + 1.0, 0.0, 0.0], 0.3).unwrap();
+///     ScalisSegment::new(s, k, 1.0).unwrap()
+/// };
+/// let sk = ScalisSkeleton::new(vec![seg(0.0), seg(1.0), seg(10.0)]).unwrap();
+/// assert!(sk.eval([1.0f64, 0.0, 0.0]) < 0.0); // inside, near the joint
+/// assert!(sk.eval([5.0f64, 0.0, 0.0]) > 0.0); // between the pieces
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ScalisSkeleton<T, S> {
+    segments: S,
+    iso: T,
+}
+
+impl<T: Real, S: AsRef<[ScalisSegment<T>]>> ScalisSkeleton<T, S> {
     /// A skeleton from its segments.
     ///
     /// # Errors
     ///
-    /// [`FieldError::InvalidParameter`] when `M = 0` or the segments differ
-    /// in kernel or iso-value.
-    pub fn new(segments: [ScalisSegment<T>; M]) -> Result<Self, FieldError> {
-        let Some(first) = segments.first() else {
+    /// [`FieldError::InvalidParameter`] when there is no segment or the
+    /// segments differ in kernel or iso-value.
+    pub fn new(segments: S) -> Result<Self, FieldError> {
+        let segs = segments.as_ref();
+        let Some(first) = segs.first() else {
             return Err(FieldError::InvalidParameter {
                 name: "segments",
                 reason: "a skeleton needs at least one segment",
             });
         };
-        if segments
+        if segs
             .iter()
             .any(|s| s.kernel != first.kernel || s.iso != first.iso)
         {
@@ -1058,86 +1146,129 @@ impl<T: Real, const M: usize> ScalisSkeleton<T, M> {
                 reason: "all segments of a skeleton must share kernel and iso-value",
             });
         }
-        Ok(Self { segments })
+        let iso = first.iso;
+        Ok(Self { segments, iso })
     }
 
-    /// `Σ fᵢ(p)`.
+    /// The segments.
+    #[inline]
+    pub fn segments(&self) -> &[ScalisSegment<T>] {
+        self.segments.as_ref()
+    }
+
+    /// The shared iso-value.
+    #[inline]
+    pub fn iso(&self) -> T {
+        self.iso
+    }
+
+    /// `Σ fᵢ(p)` (segments whose support `p` cannot reach are skipped).
     pub fn density<N: FieldNum<T>>(&self, p: [N; 3]) -> N {
+        let e = enclose3(&p);
         let mut acc = N::constant(T::ZERO);
-        let mut i = 0;
-        while i < M {
-            acc = acc + self.segments[i].density(p);
-            i += 1;
+        for s in self.segments.as_ref() {
+            if s.misses(&e) {
+                continue;
+            }
+            acc = acc + s.density(p);
         }
         acc
+    }
+
+    /// Enclosure of the ray segment `o + [t0, t1]·d`.
+    fn ray_box(ray: &Ray<T>, t0: T, t1: T) -> [Interval<T>; 3] {
+        ray.at::<Interval<T>>(t0, t1)
     }
 
     /// The sum of the per-primitive ranges (sound enclosure of `Σ fᵢ` on
     /// `[t0, t1]`).
     pub fn density_range(&self, ray: &Ray<T>, t0: T, t1: T) -> Interval<T> {
+        let e = Self::ray_box(ray, t0, t1);
         let mut acc = Interval::point(T::ZERO);
-        let mut i = 0;
-        while i < M {
-            acc = acc + self.segments[i].density_range(ray, t0, t1);
-            i += 1;
+        for s in self.segments.as_ref() {
+            if s.misses(&e) {
+                continue;
+            }
+            acc = acc + s.density_range(ray, t0, t1);
         }
         acc
     }
 
     /// The sum of the per-primitive directional Lipschitz bounds.
     pub fn directional_lipschitz(&self, ray: &Ray<T>, t0: T, t1: T) -> T {
+        let e = Self::ray_box(ray, t0, t1);
         let mut acc = Interval::point(T::ZERO);
-        let mut i = 0;
-        while i < M {
-            acc = acc + Interval::point(self.segments[i].directional_lipschitz(ray, t0, t1));
-            i += 1;
+        for s in self.segments.as_ref() {
+            if s.misses(&e) {
+                continue;
+            }
+            acc = acc + Interval::point(s.directional_lipschitz(ray, t0, t1));
         }
         acc.hi()
     }
 }
 
-impl<T: Real, const M: usize> Field<T> for ScalisSkeleton<T, M> {
+impl<T: Real, S: AsRef<[ScalisSegment<T>]>> Field<T> for ScalisSkeleton<T, S> {
     fn eval<N: FieldNum<T>>(&self, p: [N; 3]) -> N {
-        let iso = match self.segments.first() {
-            Some(s) => s.iso,
-            None => T::ONE,
-        };
-        -self.density(p) + iso
+        -self.density(p) + self.iso
+    }
+
+    /// `Σ` [`ScalisSegment::lipschitz_bound`] (rounded up): sound
+    /// everywhere, loose for large skeletons (only the segments whose
+    /// support contains a point shape its gradient).
+    fn lipschitz(&self) -> Option<T> {
+        let mut acc = Interval::point(T::ZERO);
+        for s in self.segments.as_ref() {
+            acc = acc + Interval::point(s.lipschitz_bound());
+        }
+        Some(acc.hi())
     }
 
     fn taylor_linear(&self, ray: &Ray<T>, t0: T, t1: T) -> Option<ForwardLinear<T>> {
-        let f0: Interval<T> = self.eval(ray.at(t0, t0));
+        let e = Self::ray_box(ray, t0, t1);
+        let p0 = ray.at::<Interval<T>>(t0, t0);
+        let e0 = enclose3(&p0);
+        let mut f0 = Interval::point(T::ZERO);
         let mut d = Interval::point(T::ZERO);
-        let mut i = 0;
-        while i < M {
-            d = d + self.segments[i].derivative_range(ray, t0, t1);
-            i += 1;
+        for s in self.segments.as_ref() {
+            if s.misses(&e) {
+                continue;
+            }
+            if !s.misses(&e0) {
+                f0 = f0 + s.density(p0);
+            }
+            d = d + s.derivative_range(ray, t0, t1);
         }
         let h = (Interval::point(t1) - Interval::point(t0)).lo();
-        Some(ForwardLinear::taylor(f0, -d, h.max(T::ZERO)))
+        Some(ForwardLinear::taylor(
+            Interval::point(self.iso) - f0,
+            -d,
+            h.max(T::ZERO),
+        ))
     }
 
     fn taylor_quadratic(&self, ray: &Ray<T>, t0: T, t1: T) -> Option<ForwardQuadratic<T>> {
+        let e = Self::ray_box(ray, t0, t1);
         let mut f0 = Interval::point(T::ZERO);
         let mut d1 = Interval::point(T::ZERO);
         let mut d2 = Interval::point(T::ZERO);
-        let mut i = 0;
-        while i < M {
-            let (a, b, c) = self.segments[i].taylor_parts(ray, t0, t1)?;
+        for s in self.segments.as_ref() {
+            if s.m < 2 {
+                return None;
+            }
+            if s.misses(&e) {
+                continue;
+            }
+            let (a, b, c) = s.taylor_parts(ray, t0, t1)?;
             f0 = f0 + a;
             d1 = d1 + b;
             d2 = d2 + c;
-            i += 1;
         }
-        let iso = match self.segments.first() {
-            Some(s) => s.iso,
-            None => T::ONE,
-        };
         let h = (Interval::point(t1) - Interval::point(t0))
             .lo()
             .max(T::ZERO);
         Some(ForwardQuadratic::taylor(
-            Interval::point(iso) - f0,
+            Interval::point(self.iso) - f0,
             -d1,
             -d2,
             h,
@@ -1149,12 +1280,12 @@ impl<T: Real, const M: usize> Field<T> for ScalisSkeleton<T, M> {
 /// approximate squared homothetic distance to the surface minus one,
 /// positive outside, with the same zero set as the skeleton's field.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Normalized<T, const M: usize>(pub ScalisSkeleton<T, M>);
+pub struct Normalized<T, S>(pub ScalisSkeleton<T, S>);
 
-impl<T: Real, const M: usize> Field<T> for Normalized<T, M> {
+impl<T: Real, S: AsRef<[ScalisSegment<T>]>> Field<T> for Normalized<T, S> {
     fn eval<N: FieldNum<T>>(&self, p: [N; 3]) -> N {
         let f = self.0.density(p);
-        match self.0.segments.first() {
+        match self.0.segments().first() {
             Some(s) => s.g(f) - T::ONE,
             None => f,
         }
@@ -1231,5 +1362,61 @@ mod tests {
             s.field_range(&ray, 1.0, 5.0)
                 .contains(1.0 - s.density([1.0, 0.0, 0.2]))
         );
+    }
+
+    /// Culling by support boxes leaves every value and bound unchanged:
+    /// a skeleton with far-away segments gives the same results as the
+    /// skeleton of the near ones, and the Lipschitz bound holds.
+    #[test]
+    fn culling_keeps_values_and_bounds() {
+        let k = SegmentKernel::compact_polynomial(6, 2.0).unwrap();
+        let mk = |a: [f64; 3], b: [f64; 3], ra: f64, rb: f64| {
+            ScalisSegment::new(Segment::new(a, ra, b, rb).unwrap(), k, 1.0).unwrap()
+        };
+        let near = [
+            mk([0.0, 0.0, 0.0], [1.0, 0.2, 0.0], 0.3, 0.35),
+            mk([1.0, 0.2, 0.0], [1.8, 1.0, 0.1], 0.35, 0.3),
+        ];
+        let far = mk([10.0, 0.0, 0.0], [11.0, 0.0, 0.0], 0.3, 0.3);
+        let small = ScalisSkeleton::new(near).unwrap();
+        let big = ScalisSkeleton::new(vec![near[0], far, near[1], far]).unwrap();
+        // the far segment's support box excludes the near region
+        let [lo, _] = far.support_box().unwrap();
+        assert!(lo[0] > 9.0 && lo[0] <= 10.0 - 0.6);
+        let ray = Ray::new([-1.0, -0.7, 0.05], [1.0, 0.6, 0.0]);
+        for i in 0..30 {
+            let t0 = 0.1 * f64::from(i);
+            let t1 = t0 + 0.3;
+            let p: [f64; 3] = ray.at(t0, t0);
+            assert_eq!(small.eval(p), big.eval(p));
+            let iv: Interval<f64> = big.eval(ray.at(t0, t1));
+            let iv_small: Interval<f64> = small.eval(ray.at(t0, t1));
+            assert_eq!(iv, iv_small);
+            let qb = big.taylor_quadratic(&ray, t0, t1).unwrap();
+            let qs = small.taylor_quadratic(&ray, t0, t1).unwrap();
+            assert_eq!(qb, qs);
+            let lb = big.taylor_linear(&ray, t0, t1).unwrap();
+            for j in 0..=8 {
+                let tau = 0.3 * f64::from(j) / 8.0;
+                let v: f64 = big.eval(ray.at(t0 + tau, t0 + tau));
+                assert!(qb.bounds_at(tau).contains(v), "quadratic at {t0}+{tau}");
+                assert!(lb.bounds_at(tau).contains(v), "linear at {t0}+{tau}");
+            }
+        }
+        // the global Lipschitz bound holds between sampled points
+        let l = big.lipschitz().unwrap();
+        assert!(l > 0.0 && l.is_finite());
+        let mut prev: Option<(f64, [f64; 3])> = None;
+        for i in 0..=300 {
+            let p: [f64; 3] = ray.at(f64::from(i) / 100.0, f64::from(i) / 100.0);
+            let v: f64 = big.eval(p);
+            if let Some((pv, pp)) = prev {
+                let d = ((p[0] - pp[0]).powi(2) + (p[1] - pp[1]).powi(2) + (p[2] - pp[2]).powi(2))
+                    .sqrt();
+                assert!((v - pv).abs() <= l * d + 1e-12);
+            }
+            prev = Some((v, p));
+        }
+        assert!(ScalisSkeleton::<f64, Vec<ScalisSegment<f64>>>::new(vec![]).is_err());
     }
 }
