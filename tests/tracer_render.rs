@@ -59,8 +59,8 @@ fn perspective_centre_ray_points_at_the_target() {
     assert_eq!(ray.origin, eye);
     let to_target = sub(target, eye);
     let expect = to_target.map(|c| c / norm(to_target));
-    for i in 0..3 {
-        assert!((ray.dir[i] - expect[i]).abs() < 1e-12, "{:?}", ray.dir);
+    for (d, e) in ray.dir.iter().zip(expect) {
+        assert!((d - e).abs() < 1e-12, "{:?}", ray.dir);
     }
     // unit directions everywhere, so t is a distance
     for (x, y) in [(0, 0), (400, 0), (0, 300), (123, 77)] {
