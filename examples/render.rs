@@ -111,7 +111,7 @@ type BlobField = Blobs<f64, Vec<PointBlob<f64>>>;
 fn blobs_scene() -> Result<(BlobField, [[f64; 3]; 2]), String> {
     let err = |e: boundtrace::fields::FieldError| format!("building the scene: {e}");
     let k = Kernel::compact(6, 1.0).map_err(err)?;
-    let centres = [
+    let centres: [[f64; 3]; 5] = [
         [-0.7, 0.0, 0.0],
         [0.0, 0.05, 0.0],
         [0.7, 0.0, 0.1],
@@ -124,11 +124,17 @@ fn blobs_scene() -> Result<(BlobField, [[f64; 3]; 2]), String> {
         .collect::<Result<Vec<_>, _>>()
         .map_err(err)?;
     let field = Blobs::new(0.5, blobs).map_err(err)?;
-    let sphere = field
-        .bounding_sphere(1e-9) // exact for compact kernels
-        .ok_or("the scene has no bounding sphere")?;
-    let b = sphere.aabb();
-    Ok((field, [b.min, b.max]))
+    // Inside, Σ k ≥ ½, so some blob has k ≥ ½ / 5 = 0.1 there:
+    // (1 − r²)³ ≥ 0.1 gives r ≤ 0.732, so every surface point lies within
+    // 0.75 of a centre (a tighter box than the supports' of radius 1).
+    let mut bounds = [centres[0], centres[0]];
+    for c in centres {
+        for k in 0..3 {
+            bounds[0][k] = bounds[0][k].min(c[k] - 0.75);
+            bounds[1][k] = bounds[1][k].max(c[k] + 0.75);
+        }
+    }
+    Ok((field, bounds))
 }
 
 fn run(args: &Args) -> Result<(), String> {
