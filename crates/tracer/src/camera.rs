@@ -267,9 +267,9 @@ impl<T: Real> Camera<T> {
     }
 
     /// A perspective camera that frames the box `bounds = [min, max]`:
-    /// looking along `view_dir` at the box centre, from the distance at
-    /// which the box's circumscribed sphere fits both fields of view (so
-    /// the whole box is in the picture, with a margin).
+    /// looking along `view_dir` at the box centre, from 1.05 times the
+    /// nearest distance at which every corner of the box projects into the
+    /// image (so the whole box is in the picture, with a small margin).
     ///
     /// The top of the image is `+y`, or `+z` when `view_dir` is (nearly)
     /// parallel to the `y` axis.
@@ -304,25 +304,41 @@ impl<T: Real> Camera<T> {
         if !(radius > T::ZERO && radius.is_finite()) {
             return Err(CameraError::BadBounds);
         }
-        // The narrower half field of view decides: sin(θ) = tan/√(1+tan²).
-        let tan = if aspect < T::ONE {
-            tan_y * aspect
-        } else {
-            tan_y
-        };
-        let sin = tan / (T::ONE + tan * tan).sqrt();
-        let dist = radius / sin;
-        let eye = [
-            centre[0] - forward[0] * dist,
-            centre[1] - forward[1] * dist,
-            centre[2] - forward[2] * dist,
-        ];
         let y_up = [T::ZERO, T::ONE, T::ZERO];
         let up = if basis(forward, y_up).is_ok() {
             y_up
         } else {
             [T::ZERO, T::ZERO, T::ONE]
         };
+        let [right, up_cam, _] = basis(forward, up)?;
+        let scale = [tan_y * aspect, tan_y];
+        // The nearest eye distance at which every corner q (relative to the
+        // centre, camera coordinates x, y, z) projects into the image:
+        // |x| ≤ sx·(dist + z) and |y| ≤ sy·(dist + z).
+        let mut dist = T::ZERO;
+        let mut corner = 0;
+        while corner < 8 {
+            let q = [
+                if corner & 1 == 0 { lo[0] } else { hi[0] } - centre[0],
+                if corner & 2 == 0 { lo[1] } else { hi[1] } - centre[1],
+                if corner & 4 == 0 { lo[2] } else { hi[2] } - centre[2],
+            ];
+            let z = dot(q, forward);
+            let need_x = dot(q, right).abs() / scale[0] - z;
+            let need_y = dot(q, up_cam).abs() / scale[1] - z;
+            dist = dist
+                .max(need_x)
+                .max(need_y)
+                .max(radius * T::from_f64(1e-3) - z);
+            corner += 1;
+        }
+        // A 5 % margin (a farther eye only shrinks the projection).
+        let dist = dist * T::from_f64(1.05);
+        let eye = [
+            centre[0] - forward[0] * dist,
+            centre[1] - forward[1] * dist,
+            centre[2] - forward[2] * dist,
+        ];
         Self::perspective(eye, centre, up, fov_y_degrees, aspect)
     }
 
