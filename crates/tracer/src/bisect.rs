@@ -1,27 +1,242 @@
-//! Bisection methods (in progress).
+//! Bisection methods: interval arithmetic (Mitchell 1990; thesis §2.2.2) and
+//! revised affine arithmetic with interval pruning (Fryazinov, Pasko and
+//! Comninos 2010), depth-first with an explicit fixed-size stack.
+//!
+//! Both examine sub-intervals of the span left to right. An interval whose
+//! enclosure of `f` excludes `0` is discarded (proven root-free); otherwise
+//! it is split in two (affine: first *pruned* to the part where the affine
+//! form's linear part can reach zero). An interval no longer than `eps`
+//! whose enclosure contains `0` is a *leaf*: the signs of `f` at its ends
+//! (as sound enclosures) decide between a crossing (registered at the middle, so within `eps / 2`
+//! of a true root, as [`Side::Entering`]/[`Side::Leaving`]) and a
+//! [`Side::Touch`]. Signs classify `f` not proven positive as inside, so a root at a shared
+//! end point is registered once.
+//!
+//! One *step* is one enclosure evaluation (the popped interval).
+//! [`STACK_CAPACITY`] bounds the depth; intervals that cannot be split
+//! further (float resolution, or the stack is full) are leaves.
+
+use crate::march::{Next, Walk, value_enclosure};
 use crate::method::{Mode, Params};
-use crate::trace::{Root, Trace};
-use boundtrace_ia_core::Real;
+use crate::trace::{Root, Side, Status, Trace};
+use boundtrace_ia_core::{Affine, Interval, Real};
 use boundtrace_inclusion::{Field, Ray};
 
-pub(crate) fn interval<T: Real, F: Field<T>>(
-    _field: &F,
-    _ray: &Ray<T>,
-    _span: [T; 2],
-    _mode: Mode,
-    _params: &Params<T>,
-    _roots: &mut [Root<T>],
-) -> Trace<T> {
-    Trace { roots: 0, status: crate::Status::Unsupported, t_reached: _span[0], stats: Default::default() }
+/// The bisection stack depth (enough for `(t1 − t0) / eps` up to `2⁶³`).
+pub const STACK_CAPACITY: usize = 64;
+
+/// `true` unless `f` is proven positive (inside, or on the surface within
+/// rounding).
+#[inline]
+fn inside<T: Real>(f: Interval<T>) -> bool {
+    !(f.lo() > T::ZERO)
 }
 
-pub(crate) fn affine<T: Real, F: Field<T>>(
-    _field: &F,
-    _ray: &Ray<T>,
-    _span: [T; 2],
-    _mode: Mode,
-    _params: &Params<T>,
-    _roots: &mut [Root<T>],
+/// How an enclosure method narrows `[a, b]`: `None` when it proves it
+/// root-free, else the (possibly pruned) sub-interval that may hold roots.
+trait Narrow<T: Real> {
+    fn narrow<F: Field<T>>(field: &F, ray: &Ray<T>, a: T, b: T) -> Option<(T, T)>;
+}
+
+struct ByInterval;
+impl<T: Real> Narrow<T> for ByInterval {
+    #[inline]
+    fn narrow<F: Field<T>>(field: &F, ray: &Ray<T>, a: T, b: T) -> Option<(T, T)> {
+        let f: Interval<T> = field.eval(ray.at::<Interval<T>>(a, b));
+        f.contains(T::ZERO).then_some((a, b))
+    }
+}
+
+struct ByAffine;
+impl<T: Real> Narrow<T> for ByAffine {
+    /// Revised affine form `f ∈ x₀ + x₁·ε₀ ± R` with the ray `t = m + r·ε₀`
+    /// (noise symbol 0): roots need `|x₀ + x₁ε₀| ≤ R`, i.e.
+    /// `ε₀ ∈ ([−R, R] − x₀) / x₁`, mapped back to `t` with outward rounding.
+    fn narrow<F: Field<T>>(field: &F, ray: &Ray<T>, a: T, b: T) -> Option<(T, T)> {
+        let f: Affine<T, 1> = field.eval(ray.at::<Affine<T, 1>>(a, b));
+        if f.is_empty() {
+            return None;
+        }
+        if !f.to_interval().contains(T::ZERO) {
+            return None;
+        }
+        if !f.is_bounded() {
+            return Some((a, b));
+        }
+        let tv = Affine::<T, 1>::variable(Interval::new(a, b), 0);
+        let (x0, x1, r) = (f.center(), f.coeffs()[0], f.err());
+        if x1 == T::ZERO {
+            return Some((a, b));
+        }
+        let e = ((Interval::new(-r, r) - x0) / x1).intersection(Interval::new(-T::ONE, T::ONE));
+        if e.is_empty() {
+            return None;
+        }
+        let t = Interval::point(tv.center()) + Interval::point(tv.coeffs()[0]) * e;
+        let (lo, hi) = (t.lo().max(a), t.hi().min(b));
+        if lo > hi { None } else { Some((lo, hi)) }
+    }
+}
+
+/// Interval-arithmetic bisection of `ray` on `span`.
+pub(crate) fn interval<T: Real, F: Field<T>>(
+    field: &F,
+    ray: &Ray<T>,
+    span: [T; 2],
+    mode: Mode,
+    params: &Params<T>,
+    roots: &mut [Root<T>],
 ) -> Trace<T> {
-    Trace { roots: 0, status: crate::Status::Unsupported, t_reached: _span[0], stats: Default::default() }
+    bisect::<T, F, ByInterval>(field, ray, span, mode, params, roots)
+}
+
+/// Revised-affine-arithmetic bisection with interval pruning of `ray` on
+/// `span`.
+pub(crate) fn affine<T: Real, F: Field<T>>(
+    field: &F,
+    ray: &Ray<T>,
+    span: [T; 2],
+    mode: Mode,
+    params: &Params<T>,
+    roots: &mut [Root<T>],
+) -> Trace<T> {
+    bisect::<T, F, ByAffine>(field, ray, span, mode, params, roots)
+}
+
+fn bisect<T: Real, F: Field<T>, M: Narrow<T>>(
+    field: &F,
+    ray: &Ray<T>,
+    span: [T; 2],
+    mode: Mode,
+    params: &Params<T>,
+    roots: &mut [Root<T>],
+) -> Trace<T> {
+    let mut w = Walk::new(roots, mode);
+    let mut stack = [(T::ZERO, T::ZERO); STACK_CAPACITY];
+    stack[0] = (span[0], span[1]);
+    let mut sp = 1usize;
+    while sp > 0 {
+        sp -= 1;
+        let (a, b) = stack[sp];
+        if w.stats.steps >= params.max_steps {
+            return w.done(Status::MaxSteps, a);
+        }
+        w.stats.steps += 1;
+        w.stats.bound_evals += 1;
+        let Some((a2, b2)) = M::narrow(field, ray, a, b) else {
+            continue;
+        };
+        let mid = a2 + (b2 - a2) * T::HALF;
+        let splittable = mid > a2 && mid < b2 && sp + 2 <= STACK_CAPACITY;
+        if b2 - a2 > params.eps && splittable {
+            stack[sp] = (mid, b2);
+            stack[sp + 1] = (a2, mid);
+            sp += 2;
+            continue;
+        }
+        // A leaf: a crossing, or a touch.
+        let fa = value_enclosure(field, ray, a2);
+        let fb = value_enclosure(field, ray, b2);
+        w.stats.field_evals += 2;
+        let side = match (inside(fa), inside(fb)) {
+            (false, true) => Side::Entering,
+            (true, false) => Side::Leaving,
+            _ => Side::Touch,
+        };
+        let t = if fa.contains(T::ZERO) { a2 } else { mid };
+        if let Next::Stop(tr) = w.register(Root { t, side }, a) {
+            return tr;
+        }
+    }
+    w.done(Status::Finished, span[1])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::method::Method;
+    use crate::trace::trace;
+    use boundtrace_inclusion::FieldNum;
+
+    struct Ball;
+    impl Field<f64> for Ball {
+        fn eval<N: FieldNum<f64>>(&self, p: [N; 3]) -> N {
+            (p[0].sqr() + p[1].sqr() + p[2].sqr()).sqrt() - 1.0
+        }
+    }
+
+    const NONE: Root<f64> = Root {
+        t: f64::NAN,
+        side: Side::Touch,
+    };
+
+    #[test]
+    fn both_bisections_find_both_roots() {
+        let p = Params::new();
+        let ray = Ray::new([-3.0, 0.3, 0.0], [1.0, 0.0, 0.0]);
+        let h = (1.0f64 - 0.09).sqrt();
+        for m in [Method::Interval, Method::Affine] {
+            let mut buf = [NONE; 4];
+            let tr = trace(&Ball, &ray, [0.0, 6.0], m, Mode::Transparent, &p, &mut buf);
+            assert_eq!((tr.status, tr.roots), (Status::Finished, 2), "{m}");
+            assert!((buf[0].t - (3.0 - h)).abs() <= p.eps / 2.0 + 1e-12, "{m}");
+            assert!((buf[1].t - (3.0 + h)).abs() <= p.eps / 2.0 + 1e-12, "{m}");
+            assert_eq!((buf[0].side, buf[1].side), (Side::Entering, Side::Leaving));
+            let tr = trace(&Ball, &ray, [0.0, 6.0], m, Mode::Opaque, &p, &mut buf);
+            assert_eq!(
+                (tr.status, tr.roots, tr.t_reached),
+                (Status::Finished, 1, buf[0].t)
+            );
+        }
+    }
+
+    #[test]
+    fn affine_pruning_takes_fewer_steps() {
+        let p = Params::new();
+        let ray = Ray::new([-3.0, 0.3, 0.1], [1.0, 0.0, 0.0]);
+        let mut buf = [NONE; 4];
+        let ia = trace(
+            &Ball,
+            &ray,
+            [0.0, 6.0],
+            Method::Interval,
+            Mode::Opaque,
+            &p,
+            &mut buf,
+        );
+        let aa = trace(
+            &Ball,
+            &ray,
+            [0.0, 6.0],
+            Method::Affine,
+            Mode::Opaque,
+            &p,
+            &mut buf,
+        );
+        assert!(aa.stats.steps < ia.stats.steps, "{aa:?} vs {ia:?}");
+    }
+
+    #[test]
+    fn misses_and_gives_up() {
+        let p = Params::new();
+        let ray = Ray::new([-3.0, 1.2, 0.0], [1.0, 0.0, 0.0]);
+        let mut buf = [NONE; 2];
+        for m in [Method::Interval, Method::Affine] {
+            let tr = trace(&Ball, &ray, [0.0, 6.0], m, Mode::Opaque, &p, &mut buf);
+            assert_eq!((tr.status, tr.roots), (Status::Finished, 0), "{m}");
+        }
+        let p3 = p.with_max_steps(3).unwrap();
+        let ray = Ray::new([-3.0, 0.0, 0.0], [1.0, 0.0, 0.0]);
+        let tr = trace(
+            &Ball,
+            &ray,
+            [0.0, 6.0],
+            Method::Interval,
+            Mode::Opaque,
+            &p3,
+            &mut buf,
+        );
+        assert_eq!((tr.status, tr.roots), (Status::MaxSteps, 0));
+        assert!(tr.t_reached <= 2.0);
+    }
 }

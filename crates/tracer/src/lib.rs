@@ -12,7 +12,7 @@
 //! use boundtrace_tracer::{Method, Params, first_root};
 //!
 //! // Two compact blobs blended by summation: f = ½ − Σ k.
-//! let k = Kernel::compact(1.0, 6)?;
+//! let k = Kernel::compact(6, 1.0)?;
 //! let blobs = [
 //!     PointBlob::new([-0.4, 0.0, 0.0], 1.0, k)?,
 //!     PointBlob::new([0.4, 0.0, 0.0], 1.0, k)?,
@@ -47,6 +47,9 @@
 //!   same output as single-threaded.
 #![cfg_attr(not(feature = "std"), no_std)]
 #![cfg_attr(docsrs, feature(doc_cfg))]
+// `!(a < b)` is deliberate throughout: it is also true when a value is NaN,
+// which must take the safe branch.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 #[cfg(all(not(feature = "std"), not(feature = "libm")))]
 compile_error!("boundtrace-tracer needs the `std` or the `libm` feature for its math");

@@ -1,17 +1,837 @@
-//! Marching methods (in progress).
-use crate::method::{Method, Mode, Params};
-use crate::trace::{Root, Trace};
-use boundtrace_ia_core::Real;
-use boundtrace_inclusion::{Field, Ray};
+//! Marching methods: sphere tracing, segment tracing and forward linear /
+//! quadratic marching (forward-inclusion paper Alg. 1).
+//!
+//! Every marcher walks the ray from `t0` and only ever advances by a step
+//! that a bound **proves** root-free; they differ in the bound:
+//!
+//! | method | bound at `t` | step |
+//! | --- | --- | --- |
+//! | `sphere` | `f(t) ± L·|d|·τ`, global Lipschitz `L` (paper eq. 10; Hart 1996) | `|f|/(L·|d|)`, optionally `ω·` that with the overlap check of Keinert et al. 2014 |
+//! | `segment` | `f(t) ± λ·τ`, `λ = max |f′|` on the segment (eq. 11; Galin et al. 2020) | to the bounding line's root, or the whole segment |
+//! | `linear-*` | asymmetric lines `f(t) + m±·τ` (eq. 12–15) | to the relevant line's root, or the validity end |
+//! | `quadratic-*` | asymmetric parabolas (§6) | to the relevant parabola's first root, or the validity end |
+//!
+//! The segment ("window") `[t, t_end]` on which a bound is built follows
+//! Alg. 1: the whole span first, then `t_end = t + k·step`. The sign of the
+//! bound's start selects the side (lower bound outside, upper bound inside,
+//! §4.3).
+//!
+//! # Roots
+//!
+//! When the safe step falls below `eps` (or the start enclosure contains
+//! `0`), a root may lie within `eps`: the marcher *probes* `f(t + eps)`.
+//! - A sign change brackets a root in `[t + step, t + eps]`: it is
+//!   registered at the bracket's middle (so within `eps / 2` of a true
+//!   root) as [`Side::Entering`] or [`Side::Leaving`].
+//! - No sign change: an interval enclosure of `f` on `[t, t + eps]`
+//!   decides. If it excludes `0`, the marcher steps `eps` (proven
+//!   root-free); otherwise the ray touches the surface within rounding or
+//!   within the enclosure's width and a [`Side::Touch`] root is registered.
+//!
+//! In opaque mode tracing stops at the first root; in transparent mode it
+//! resumes at `t + eps` on the other side, so every root is registered once
+//! (roots closer than `eps` may be reported once).
+//!
+//! # Minimal step
+//!
+//! With `Params::min_step > 0`, a safe step shorter than `min_step` (but at
+//! least `eps`) is replaced by a step of `min_step` when an interval
+//! enclosure of `f` over it excludes `0` (one more bound evaluation);
+//! otherwise the safe step is kept. Steps therefore never pass a root.
 
+use crate::method::{Method, Mode, Params};
+use crate::trace::{RayStats, Root, Side, Status, Trace};
+use boundtrace_ia_core::{Interval, Real, round};
+use boundtrace_inclusion::{BoundKind, Field, ForwardLinear, ForwardQuadratic, Ray};
+
+/// The sign of an enclosure: `1` if it is positive, `-1` if negative, `0`
+/// if it contains `0` (or is empty).
+#[inline]
+fn sign_of<T: Real>(iv: Interval<T>) -> i32 {
+    if iv.is_empty() {
+        0
+    } else if iv.lo() > T::ZERO {
+        1
+    } else if iv.hi() < T::ZERO {
+        -1
+    } else {
+        0
+    }
+}
+
+/// `t + d`, rounded down, but at least the next float after `t` (so every
+/// advance makes progress even when `d` is below `t`'s resolution).
+#[inline]
+fn advance<T: Real>(t: T, d: T) -> T {
+    let a = round::add_down(t, d);
+    if a > t { a } else { t.next_up() }
+}
+
+/// `f(t)` as a sound enclosure (one point evaluation in interval arithmetic).
+#[inline]
+pub(crate) fn value_enclosure<T: Real, F: Field<T>>(field: &F, ray: &Ray<T>, t: T) -> Interval<T> {
+    field.eval(ray.at::<Interval<T>>(t, t))
+}
+
+/// What a bound says at `t` about `[t, t + h]`.
+#[derive(Clone, Copy, Debug)]
+struct StepBound<T> {
+    /// Enclosure of `f(t)`.
+    start: Interval<T>,
+    /// The proven root-free length `τ` (the relevant side's first root), or
+    /// `None` when the side has no root on the validity interval.
+    safe: Option<T>,
+    /// The validity length `h` (the window, possibly shortened).
+    h: T,
+}
+
+impl<T: Real> StepBound<T> {
+    /// The bound's answer, clipped to the window length `len` it was built
+    /// for (a bound of `f` on `[t, t + len]` says nothing beyond it, even if
+    /// its validity is longer, e.g. a constant where every primitive was
+    /// culled).
+    fn clipped(start: Interval<T>, safe: Option<T>, h: T, len: T) -> Self {
+        let h = h.min(len);
+        Self {
+            start,
+            safe: safe.filter(|&r| r <= h),
+            h,
+        }
+    }
+    fn from_linear(b: ForwardLinear<T>, len: T) -> Self {
+        Self::clipped(b.start(), b.first_root(), b.validity(), len)
+    }
+    fn from_quadratic(b: ForwardQuadratic<T>, len: T) -> Self {
+        Self::clipped(b.start(), b.first_root(), b.validity(), len)
+    }
+}
+
+/// The per-ray state shared by the marchers and bisections: the root
+/// buffer, the counters and the mode.
+pub(crate) struct Walk<'a, T> {
+    pub(crate) roots: &'a mut [Root<T>],
+    pub(crate) n: u32,
+    pub(crate) stats: RayStats,
+    pub(crate) mode: Mode,
+}
+
+/// Whether to go on after registering a root.
+pub(crate) enum Next<T> {
+    /// Continue tracing.
+    Go,
+    /// Stop with this trace record.
+    Stop(Trace<T>),
+}
+
+impl<'a, T: Real> Walk<'a, T> {
+    pub(crate) fn new(roots: &'a mut [Root<T>], mode: Mode) -> Self {
+        Self {
+            roots,
+            n: 0,
+            stats: RayStats::default(),
+            mode,
+        }
+    }
+
+    pub(crate) fn done(&self, status: Status, t_reached: T) -> Trace<T> {
+        Trace {
+            roots: self.n,
+            status,
+            t_reached,
+            stats: self.stats,
+        }
+    }
+
+    /// Registers a root at `t` (the span before `t_before` is processed).
+    pub(crate) fn register(&mut self, root: Root<T>, t_before: T) -> Next<T> {
+        let i = self.n as usize;
+        if i >= self.roots.len() {
+            return Next::Stop(self.done(Status::BufferFull, t_before));
+        }
+        self.roots[i] = root;
+        self.n += 1;
+        match self.mode {
+            Mode::Opaque => Next::Stop(self.done(Status::Finished, root.t)),
+            Mode::Transparent => Next::Go,
+        }
+    }
+}
+
+/// The outcome of a probe at `t`.
+enum Probe<T> {
+    /// Proven root-free up to this `t`; continue from there with the same sign.
+    Clear(T),
+    /// A root was registered; continue from this `t` with this sign.
+    Root(T, i32),
+    /// Stop.
+    Stop(Trace<T>),
+}
+
+/// The root test near `t`: `s` is the sign at `t` (`0` if `f(t)` is not
+/// proven nonzero), `prev` the sign before `t` (`0` at the start of the
+/// span), `r` the proven root-free length from `t`.
+#[allow(clippy::too_many_arguments)]
+fn probe<T: Real, F: Field<T>>(
+    field: &F,
+    ray: &Ray<T>,
+    t: T,
+    t1: T,
+    s: i32,
+    prev: i32,
+    r: T,
+    eps: T,
+    w: &mut Walk<'_, T>,
+) -> Probe<T> {
+    let tp = advance(t, eps).min(t1);
+    let sp = sign_of(value_enclosure(field, ray, tp));
+    w.stats.field_evals += 1;
+    let approach = if s != 0 { s } else { prev };
+    let lo = advance(t, r).min(tp);
+    if approach == 0 {
+        // The span starts on the surface: the side is the sign after it.
+        let side = match sp {
+            -1 => Side::Entering,
+            1 => Side::Leaving,
+            _ => Side::Touch,
+        };
+        return match w.register(Root { t, side }, t) {
+            Next::Go => Probe::Root(tp, sp),
+            Next::Stop(tr) => Probe::Stop(tr),
+        };
+    }
+    if sp != approach {
+        // A sign change (or `f(tp)` zero within rounding) in [lo, tp].
+        let t_root = if sp == 0 {
+            tp
+        } else {
+            lo + (tp - lo) * T::HALF
+        };
+        let side = if approach > 0 {
+            Side::Entering
+        } else {
+            Side::Leaving
+        };
+        return match w.register(Root { t: t_root, side }, t) {
+            Next::Go => Probe::Root(tp, -approach),
+            Next::Stop(tr) => Probe::Stop(tr),
+        };
+    }
+    // Same sign at both ends: prove [t, tp] root-free, or call it a touch.
+    let enc: Interval<T> = field.eval(ray.at::<Interval<T>>(t, tp));
+    w.stats.bound_evals += 1;
+    if sign_of(enc) == approach {
+        return Probe::Clear(tp);
+    }
+    match w.register(
+        Root {
+            t,
+            side: Side::Touch,
+        },
+        t,
+    ) {
+        Next::Go => Probe::Root(tp, approach),
+        Next::Stop(tr) => Probe::Stop(tr),
+    }
+}
+
+/// A bound at `t` on `[t, e]` for the window-based methods; `None` when the
+/// method needs a bound the field lacks.
+fn window_bound<T: Real, F: Field<T>>(
+    field: &F,
+    ray: &Ray<T>,
+    t: T,
+    e: T,
+    method: Method,
+    stats: &mut RayStats,
+) -> Option<StepBound<T>> {
+    let len = e - t;
+    let linear = |kind: BoundKind, stats: &mut RayStats| -> Option<ForwardLinear<T>> {
+        match kind {
+            BoundKind::BottomUp => {
+                stats.bound_evals += 1;
+                Some(field.eval(ray.at(t, e)))
+            }
+            BoundKind::Taylor => {
+                stats.bound_evals += 1;
+                field.taylor_linear(ray, t, e)
+            }
+            BoundKind::Mixed => {
+                stats.bound_evals += 1;
+                let b: ForwardLinear<T> = field.eval(ray.at(t, e));
+                Some(match field.taylor_linear(ray, t, e) {
+                    Some(ty) => {
+                        stats.bound_evals += 1;
+                        b.tighter(ty)
+                    }
+                    None => b,
+                })
+            }
+        }
+    };
+    let quadratic = |kind: BoundKind, stats: &mut RayStats| -> Option<ForwardQuadratic<T>> {
+        match kind {
+            BoundKind::BottomUp => {
+                stats.bound_evals += 1;
+                Some(field.eval(ray.at(t, e)))
+            }
+            BoundKind::Taylor => {
+                stats.bound_evals += 1;
+                field.taylor_quadratic(ray, t, e)
+            }
+            BoundKind::Mixed => {
+                stats.bound_evals += 1;
+                let b: ForwardQuadratic<T> = field.eval(ray.at(t, e));
+                Some(match field.taylor_quadratic(ray, t, e) {
+                    Some(ty) => {
+                        stats.bound_evals += 1;
+                        b.tighter(ty)
+                    }
+                    None => b,
+                })
+            }
+        }
+    };
+    Some(match method {
+        Method::Segment => {
+            // Galin et al.'s local Lipschitz bound λ = max |f′| on the
+            // segment (eq. 11): from the Taylor lines when the field has
+            // them, else from the bottom-up lines.
+            stats.bound_evals += 1;
+            let b = match field.taylor_linear(ray, t, e) {
+                Some(b) => b,
+                None => field.eval(ray.at(t, e)),
+            };
+            if !b.is_valid() {
+                return Some(StepBound::from_linear(b, len));
+            }
+            let [m_lo, m_hi] = b.slopes();
+            let lambda = m_lo.abs().max(m_hi.abs());
+            if !lambda.is_finite() {
+                // No local Lipschitz bound here (e.g. |x| at x = 0).
+                return Some(StepBound {
+                    start: Interval::EMPTY,
+                    safe: None,
+                    h: T::ZERO,
+                });
+            }
+            StepBound::from_linear(
+                ForwardLinear::lipschitz(b.start(), lambda, b.validity().min(len)),
+                len,
+            )
+        }
+        Method::LinearTaylor => StepBound::from_linear(linear(BoundKind::Taylor, stats)?, len),
+        Method::LinearBottomUp => StepBound::from_linear(linear(BoundKind::BottomUp, stats)?, len),
+        Method::LinearMixed => StepBound::from_linear(linear(BoundKind::Mixed, stats)?, len),
+        Method::QuadraticTaylor => {
+            StepBound::from_quadratic(quadratic(BoundKind::Taylor, stats)?, len)
+        }
+        Method::QuadraticBottomUp => {
+            StepBound::from_quadratic(quadratic(BoundKind::BottomUp, stats)?, len)
+        }
+        Method::QuadraticMixed => {
+            StepBound::from_quadratic(quadratic(BoundKind::Mixed, stats)?, len)
+        }
+        // Sphere, Interval and Affine have their own loops.
+        Method::Sphere | Method::Interval | Method::Affine => return None,
+    })
+}
+
+/// The longest of `e − t`, `(e − t)/2`, … (down to `eps`) over which an
+/// interval enclosure of `f` has the sign `s ≠ 0`; `None` if none has.
+fn interval_step<T: Real, F: Field<T>>(
+    field: &F,
+    ray: &Ray<T>,
+    t: T,
+    e: T,
+    s: i32,
+    eps: T,
+    stats: &mut RayStats,
+) -> Option<T> {
+    if s == 0 {
+        return None;
+    }
+    let mut len = e - t;
+    while len >= eps {
+        let enc: Interval<T> = field.eval(ray.at::<Interval<T>>(t, advance(t, len)));
+        stats.bound_evals += 1;
+        if sign_of(enc) == s {
+            return Some(len);
+        }
+        len = len * T::HALF;
+    }
+    None
+}
+
+/// Tries to replace a short safe step by `min_step` (see the module docs):
+/// returns the step to take.
+#[allow(clippy::too_many_arguments)]
+fn min_step_extension<T: Real, F: Field<T>>(
+    field: &F,
+    ray: &Ray<T>,
+    t: T,
+    t1: T,
+    step: T,
+    sign: i32,
+    params: &Params<T>,
+    stats: &mut RayStats,
+) -> T {
+    if !(params.min_step > step) || sign == 0 {
+        return step;
+    }
+    let e = advance(t, params.min_step).min(t1);
+    let enc: Interval<T> = field.eval(ray.at::<Interval<T>>(t, e));
+    stats.bound_evals += 1;
+    if sign_of(enc) == sign { e - t } else { step }
+}
+
+/// Marches `ray` on `span` with a window-based method or sphere tracing.
 pub(crate) fn march<T: Real, F: Field<T>>(
-    _field: &F,
-    _ray: &Ray<T>,
-    _span: [T; 2],
-    _method: Method,
-    _mode: Mode,
-    _params: &Params<T>,
-    _roots: &mut [Root<T>],
+    field: &F,
+    ray: &Ray<T>,
+    span: [T; 2],
+    method: Method,
+    mode: Mode,
+    params: &Params<T>,
+    roots: &mut [Root<T>],
 ) -> Trace<T> {
-    Trace { roots: 0, status: crate::Status::Unsupported, t_reached: _span[0], stats: Default::default() }
+    if method == Method::Sphere {
+        return sphere(field, ray, span, mode, params, roots);
+    }
+    let [t0, t1] = span;
+    let eps = params.eps;
+    let mut w = Walk::new(roots, mode);
+    let mut t = t0;
+    let mut win = t1 - t0;
+    let mut prev = 0i32;
+    loop {
+        if !(t < t1) {
+            return w.done(Status::Finished, t1);
+        }
+        if w.stats.steps >= params.max_steps {
+            return w.done(Status::MaxSteps, t);
+        }
+        w.stats.steps += 1;
+        let e = advance(t, win.max(eps)).min(t1);
+        let Some(b) = window_bound(field, ray, t, e, method, &mut w.stats) else {
+            return w.done(Status::Unsupported, t);
+        };
+        // A bound undefined at t, or not exact there (e.g. |x| or √ at a
+        // kink of the field): certify a step with interval enclosures.
+        let mut s = sign_of(b.start);
+        let degenerate = b.start.is_empty() || !(b.h > T::ZERO);
+        if degenerate || s == 0 {
+            let f = value_enclosure(field, ray, t);
+            w.stats.field_evals += 1;
+            s = sign_of(f);
+        }
+        if degenerate || (s != 0 && sign_of(b.start) == 0) {
+            if let Some(step) = interval_step(field, ray, t, e, s, eps, &mut w.stats) {
+                prev = s;
+                t = advance(t, step);
+                win = step * params.k;
+                continue;
+            }
+            match probe(field, ray, t, t1, s, prev, T::ZERO, eps, &mut w) {
+                Probe::Clear(tn) => {
+                    prev = if s != 0 { s } else { prev };
+                    t = tn;
+                }
+                Probe::Root(tn, sn) => {
+                    prev = sn;
+                    t = tn;
+                }
+                Probe::Stop(tr) => return tr,
+            }
+            win = eps * params.k;
+            continue;
+        }
+        let near = match b.safe {
+            _ if s == 0 => Some(T::ZERO),
+            Some(r) if r < eps => Some(r),
+            _ => None,
+        };
+        if let Some(r) = near {
+            match probe(field, ray, t, t1, s, prev, r, eps, &mut w) {
+                Probe::Clear(tn) => {
+                    prev = if s != 0 { s } else { prev };
+                    t = tn;
+                }
+                Probe::Root(tn, sn) => {
+                    prev = sn;
+                    t = tn;
+                }
+                Probe::Stop(tr) => return tr,
+            }
+            win = eps * params.k;
+            continue;
+        }
+        let step = match b.safe {
+            Some(r) => min_step_extension(field, ray, t, t1, r, s, params, &mut w.stats),
+            // No root of the bound on its validity interval: skip it all.
+            None => b.h,
+        };
+        prev = s;
+        t = advance(t, step);
+        win = step * params.k;
+    }
+}
+
+/// Sphere tracing with the global Lipschitz bound and optional
+/// over-relaxation (Keinert et al. 2014): an over-relaxed step `ω·r` is
+/// kept only when the unbounding intervals at both ends overlap (so the
+/// whole step is proven root-free); otherwise the marcher falls back to the
+/// safe step `r` and stops over-relaxing for this ray.
+fn sphere<T: Real, F: Field<T>>(
+    field: &F,
+    ray: &Ray<T>,
+    span: [T; 2],
+    mode: Mode,
+    params: &Params<T>,
+    roots: &mut [Root<T>],
+) -> Trace<T> {
+    let [t0, t1] = span;
+    let mut w = Walk::new(roots, mode);
+    let Some(l) = field.lipschitz() else {
+        return w.done(Status::Unsupported, t0);
+    };
+    let lambda = round::mul_up(l, ray.speed());
+    if !(lambda > T::ZERO) || !lambda.is_finite() {
+        return w.done(Status::Unsupported, t0);
+    }
+    let eps = params.eps;
+    let mut omega = params.omega;
+    let mut t = t0;
+    let mut prev = 0i32;
+    // The enclosure of f at t when it is already known (after an
+    // over-relaxed step), to avoid evaluating it twice.
+    let mut known: Option<Interval<T>> = None;
+    loop {
+        if !(t < t1) {
+            return w.done(Status::Finished, t1);
+        }
+        if w.stats.steps >= params.max_steps {
+            return w.done(Status::MaxSteps, t);
+        }
+        w.stats.steps += 1;
+        let f = match known.take() {
+            Some(f) => f,
+            None => {
+                w.stats.field_evals += 1;
+                value_enclosure(field, ray, t)
+            }
+        };
+        let s = sign_of(f);
+        // |f| / λ, rounded down: the proven root-free length.
+        let r = if s == 0 {
+            T::ZERO
+        } else {
+            round::div_down(f.mig(), lambda)
+        };
+        if r < eps {
+            match probe(field, ray, t, t1, s, prev, r, eps, &mut w) {
+                Probe::Clear(tn) => {
+                    prev = if s != 0 { s } else { prev };
+                    t = tn;
+                }
+                Probe::Root(tn, sn) => {
+                    prev = sn;
+                    t = tn;
+                }
+                Probe::Stop(tr) => return tr,
+            }
+            continue;
+        }
+        prev = s;
+        if omega > T::ONE {
+            let step = r * omega;
+            let tn = advance(t, step).min(t1);
+            let fn_ = value_enclosure(field, ray, tn);
+            w.stats.field_evals += 1;
+            // Root-free radius around tn (0 if the sign changed or is unknown).
+            let rn = if sign_of(fn_) == s {
+                round::div_down(fn_.mig(), lambda)
+            } else {
+                T::ZERO
+            };
+            if round::add_down(r, rn) >= tn - t || tn >= t1 {
+                t = tn;
+                known = Some(fn_);
+                continue;
+            }
+            // Failed: fall back to the safe step, no more over-relaxation.
+            omega = T::ONE;
+        }
+        let step = min_step_extension(field, ray, t, t1, r, s, params, &mut w.stats);
+        t = advance(t, step);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::trace::trace;
+    use boundtrace_inclusion::FieldNum;
+
+    /// A ball of radius `r` at the origin (signed distance, L = 1).
+    struct Ball(f64);
+    impl Field<f64> for Ball {
+        fn eval<N: FieldNum<f64>>(&self, p: [N; 3]) -> N {
+            (p[0].sqr() + p[1].sqr() + p[2].sqr()).sqrt() - self.0
+        }
+        fn lipschitz(&self) -> Option<f64> {
+            Some(1.0)
+        }
+    }
+
+    /// `f(x) = x² − c` along x (two roots at ±√c), no Lipschitz bound.
+    struct Parabola(f64);
+    impl Field<f64> for Parabola {
+        fn eval<N: FieldNum<f64>>(&self, p: [N; 3]) -> N {
+            p[0].sqr() - self.0
+        }
+    }
+
+    const NONE: Root<f64> = Root {
+        t: f64::NAN,
+        side: Side::Touch,
+    };
+
+    fn methods() -> [Method; 6] {
+        [
+            Method::Sphere,
+            Method::Segment,
+            Method::LinearBottomUp,
+            Method::LinearMixed,
+            Method::QuadraticBottomUp,
+            Method::QuadraticMixed,
+        ]
+    }
+
+    #[test]
+    fn ball_opaque_and_transparent() {
+        let ray = Ray::new([-3.0, 0.1, 0.0], [1.0, 0.0, 0.0]);
+        let p = Params::new();
+        let exact = (1.0f64 - 0.01).sqrt();
+        for m in methods() {
+            let mut buf = [NONE; 4];
+            let tr = trace(&Ball(1.0), &ray, [0.0, 6.0], m, Mode::Opaque, &p, &mut buf);
+            assert_eq!(tr.status, Status::Finished, "{m}");
+            assert_eq!(tr.roots, 1, "{m}");
+            assert!(
+                (buf[0].t - (3.0 - exact)).abs() <= p.eps,
+                "{m}: {}",
+                buf[0].t
+            );
+            assert_eq!(buf[0].side, Side::Entering);
+            let tr = trace(
+                &Ball(1.0),
+                &ray,
+                [0.0, 6.0],
+                m,
+                Mode::Transparent,
+                &p,
+                &mut buf,
+            );
+            assert_eq!((tr.status, tr.roots), (Status::Finished, 2), "{m}");
+            assert!(
+                (buf[1].t - (3.0 + exact)).abs() <= p.eps,
+                "{m}: {}",
+                buf[1].t
+            );
+            assert_eq!(buf[1].side, Side::Leaving);
+        }
+    }
+
+    #[test]
+    fn miss_and_unsupported() {
+        let ray = Ray::new([-3.0, 1.5, 0.0], [1.0, 0.0, 0.0]);
+        let p = Params::new();
+        for m in methods() {
+            let mut buf = [NONE; 2];
+            let tr = trace(&Ball(1.0), &ray, [0.0, 6.0], m, Mode::Opaque, &p, &mut buf);
+            assert_eq!((tr.status, tr.roots), (Status::Finished, 0), "{m}");
+            assert_eq!(tr.t_reached, 6.0);
+        }
+        // No Lipschitz bound: sphere tracing is unsupported; no Taylor bound:
+        // the Taylor methods are.
+        let mut buf = [NONE; 2];
+        for m in [
+            Method::Sphere,
+            Method::LinearTaylor,
+            Method::QuadraticTaylor,
+        ] {
+            let tr = trace(
+                &Parabola(1.0),
+                &ray,
+                [0.0, 6.0],
+                m,
+                Mode::Opaque,
+                &p,
+                &mut buf,
+            );
+            assert_eq!(tr.status, Status::Unsupported, "{m}");
+        }
+    }
+
+    #[test]
+    fn start_inside_and_on_surface() {
+        let p = Params::new();
+        for m in methods() {
+            let mut buf = [NONE; 4];
+            // Inside: the first root leaves.
+            let ray = Ray::new([0.0; 3], [1.0, 0.0, 0.0]);
+            let tr = trace(
+                &Ball(1.0),
+                &ray,
+                [0.0, 3.0],
+                m,
+                Mode::Transparent,
+                &p,
+                &mut buf,
+            );
+            assert_eq!(tr.roots, 1, "{m}: {:?}", &buf[..tr.roots as usize]);
+            assert_eq!(buf[0].side, Side::Leaving);
+            assert!((buf[0].t - 1.0).abs() <= p.eps);
+            // On the surface, heading in: a root at t0, entering.
+            let ray = Ray::new([-1.0, 0.0, 0.0], [1.0, 0.0, 0.0]);
+            let tr = trace(
+                &Ball(1.0),
+                &ray,
+                [0.0, 3.0],
+                m,
+                Mode::Transparent,
+                &p,
+                &mut buf,
+            );
+            assert_eq!(tr.roots, 2, "{m}");
+            assert_eq!((buf[0].t, buf[0].side), (0.0, Side::Entering), "{m}");
+            assert!((buf[1].t - 2.0).abs() <= p.eps, "{m}");
+        }
+    }
+
+    #[test]
+    fn buffer_full_and_max_steps() {
+        let p = Params::new();
+        let ray = Ray::new([-3.0, 0.0, 0.0], [1.0, 0.0, 0.0]);
+        let mut buf = [NONE; 1];
+        let tr = trace(
+            &Ball(1.0),
+            &ray,
+            [0.0, 6.0],
+            Method::Segment,
+            Mode::Transparent,
+            &p,
+            &mut buf,
+        );
+        assert_eq!((tr.status, tr.roots), (Status::BufferFull, 1));
+        assert!(tr.t_reached > 2.0 && tr.t_reached < 4.0);
+        let p1 = p.with_max_steps(2).unwrap();
+        let ray = Ray::new([-3.0, 0.5, 0.0], [1.0, 0.0, 0.0]);
+        let tr = trace(
+            &Ball(1.0),
+            &ray,
+            [0.0, 6.0],
+            Method::Sphere,
+            Mode::Opaque,
+            &p1,
+            &mut buf,
+        );
+        assert_eq!(tr.status, Status::MaxSteps);
+        assert!(tr.t_reached < 2.134);
+    }
+
+    #[test]
+    fn over_relaxation_never_passes_a_root() {
+        // A thin shell: over-relaxed steps would jump it; the check stops them.
+        struct Shell;
+        impl Field<f64> for Shell {
+            fn eval<N: FieldNum<f64>>(&self, p: [N; 3]) -> N {
+                ((p[0].sqr() + p[1].sqr() + p[2].sqr()).sqrt() - 1.0).abs() - 0.01
+            }
+            fn lipschitz(&self) -> Option<f64> {
+                Some(1.0)
+            }
+        }
+        let p = Params::new().with_omega(1.9).unwrap();
+        for y in [0.0, 0.5, 0.9, 0.999] {
+            let ray = Ray::new([-3.0, y, 0.0], [1.0, 0.0, 0.0]);
+            let mut buf = [NONE; 8];
+            let tr = trace(
+                &Shell,
+                &ray,
+                [0.0, 6.0],
+                Method::Sphere,
+                Mode::Opaque,
+                &p,
+                &mut buf,
+            );
+            let exact = 3.0 - (1.01f64 * 1.01 - y * y).sqrt();
+            assert_eq!(tr.roots, 1);
+            assert!(
+                (buf[0].t - exact).abs() <= p.eps,
+                "y = {y}: {} vs {exact}",
+                buf[0].t
+            );
+        }
+    }
+
+    #[test]
+    fn min_step_keeps_steps_safe() {
+        // A near-grazing ray; a large minimal step must not pass the surface.
+        let p = Params::new().with_min_step(0.05).unwrap();
+        let ray = Ray::new([-3.0, 0.99, 0.0], [1.0, 0.0, 0.0]);
+        let exact = 3.0 - (1.0f64 - 0.99 * 0.99).sqrt();
+        for m in methods() {
+            let mut buf = [NONE; 2];
+            let tr = trace(&Ball(1.0), &ray, [0.0, 6.0], m, Mode::Opaque, &p, &mut buf);
+            assert_eq!(tr.roots, 1, "{m}");
+            assert!((buf[0].t - exact).abs() <= p.eps, "{m}");
+        }
+    }
+
+    #[test]
+    fn parabola_roots_without_lipschitz() {
+        let ray = Ray::new([-2.0, 0.0, 0.0], [1.0, 0.0, 0.0]);
+        let p = Params::new();
+        for m in [
+            Method::Segment,
+            Method::LinearBottomUp,
+            Method::QuadraticBottomUp,
+        ] {
+            let mut buf = [NONE; 4];
+            let tr = trace(
+                &Parabola(0.25),
+                &ray,
+                [0.0, 4.0],
+                m,
+                Mode::Transparent,
+                &p,
+                &mut buf,
+            );
+            assert_eq!((tr.status, tr.roots), (Status::Finished, 2), "{m}");
+            assert!((buf[0].t - 1.5).abs() <= p.eps && (buf[1].t - 2.5).abs() <= p.eps);
+        }
+    }
+
+    #[test]
+    fn touching_ray_registers_a_touch() {
+        // f = x² along the ray touches zero at t = 2 without changing sign.
+        let ray = Ray::new([-2.0, 0.0, 0.0], [1.0, 0.0, 0.0]);
+        let p = Params::new();
+        for m in [Method::LinearBottomUp, Method::QuadraticBottomUp] {
+            let mut buf = [NONE; 4];
+            let tr = trace(
+                &Parabola(0.0),
+                &ray,
+                [0.0, 4.0],
+                m,
+                Mode::Transparent,
+                &p,
+                &mut buf,
+            );
+            assert!(tr.roots >= 1, "{m}");
+            assert_eq!(buf[0].side, Side::Touch, "{m}");
+            assert!((buf[0].t - 2.0).abs() <= p.eps, "{m}: {}", buf[0].t);
+        }
+    }
 }

@@ -173,7 +173,11 @@ pub struct InvalidParams {
 
 impl fmt::Display for InvalidParams {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "invalid tracing parameter `{}`: {}", self.name, self.reason)
+        write!(
+            f,
+            "invalid tracing parameter `{}`: {}",
+            self.name, self.reason
+        )
     }
 }
 

@@ -44,9 +44,10 @@ pub struct RayStats {
     pub bound_evals: u32,
 }
 
-impl RayStats {
-    /// Component-wise sum.
-    pub fn add(self, o: Self) -> Self {
+impl core::ops::Add for RayStats {
+    type Output = Self;
+    /// Component-wise sum (saturating).
+    fn add(self, o: Self) -> Self {
         Self {
             steps: self.steps.saturating_add(o.steps),
             field_evals: self.field_evals.saturating_add(o.field_evals),
