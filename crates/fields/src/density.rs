@@ -283,7 +283,7 @@ impl<T: Real, A: Field<T>, B: Field<T>> Field<T> for Ricci<T, A, B> {
 ///
 /// let k = Kernel::compact(6, 1.0).unwrap();
 /// let group = |x: f64| Blobs::new(0.5, [PointBlob::new([x, 0.0, 0.0], 1.0, k).unwrap()]).unwrap();
-/// let u = UnionAll::new(vec![group(-1.0), group(1.0)]).unwrap();
+/// let u = UnionAll::new([group(-1.0), group(1.0)]).unwrap();
 /// assert_eq!(u.eval([1.0f64, 0.0, 0.0]), -0.5); // inside the second group
 /// let ray = Ray::new([-3.0, 0.0, 0.0], [1.0, 0.0, 0.0]);
 /// assert!(u.taylor_quadratic(&ray, 0.0, 1.0).is_some());

@@ -1112,7 +1112,7 @@ impl<T: Real> ScalisSegment<T> {
 ///     let s = Segment::new([x, 0.0, 0.0], 0.3, [x + 1.0, 0.0, 0.0], 0.3).unwrap();
 ///     ScalisSegment::new(s, k, 1.0).unwrap()
 /// };
-/// let sk = ScalisSkeleton::new(vec![seg(0.0), seg(1.0), seg(10.0)]).unwrap();
+/// let sk = ScalisSkeleton::new([seg(0.0), seg(1.0), seg(10.0)]).unwrap();
 /// assert!(sk.eval([1.0f64, 0.0, 0.0]) < 0.0); // inside, near the joint
 /// assert!(sk.eval([5.0f64, 0.0, 0.0]) > 0.0); // between the pieces
 /// ```
@@ -1379,7 +1379,7 @@ mod tests {
         ];
         let far = mk([10.0, 0.0, 0.0], [11.0, 0.0, 0.0], 0.3, 0.3);
         let small = ScalisSkeleton::new(near).unwrap();
-        let big = ScalisSkeleton::new(vec![near[0], far, near[1], far]).unwrap();
+        let big = ScalisSkeleton::new([near[0], far, near[1], far]).unwrap();
         // the far segment's support box excludes the near region
         let [lo, _] = far.support_box().unwrap();
         assert!(lo[0] > 9.0 && lo[0] <= 10.0 - 0.6);
@@ -1417,6 +1417,6 @@ mod tests {
             }
             prev = Some((v, p));
         }
-        assert!(ScalisSkeleton::<f64, Vec<ScalisSegment<f64>>>::new(vec![]).is_err());
+        assert!(ScalisSkeleton::<f64, [ScalisSegment<f64>; 0]>::new([]).is_err());
     }
 }
