@@ -25,9 +25,10 @@
 //! Every scene is generated in `f64` from a tiny local PRNG (splitmix64)
 //! seeded by `seed`, so the same name and seed give the same scene on every
 //! platform; the data is then converted to `T` (`f32` or `f64`). Each is
-//! scaled uniformly so that its [`bounds`](Scene::bounds) fit `[−0.95,
-//! 0.95]³ ⊂ [−1, 1]³`, so one `ε` (the tracer's default `10⁻⁴`) means the
-//! same everywhere. The bounds enclose the whole surface (`f > 0` outside
+//! scaled uniformly so that the box enclosing its surface has its largest
+//! half-extent `0.95`; [`bounds`](Scene::bounds) is that box (plus a 2 %
+//! margin for the scenes with compact supports) and fits `[−1, 1]³`, so
+//! one `ε` (the tracer's default `10⁻⁴`) means the same everywhere. The bounds enclose the whole surface (`f > 0` outside
 //! them) — proven from the primitives' supports except for the HRBF scenes,
 //! where it is checked by sampling (see below).
 //!
@@ -37,9 +38,9 @@
 //! | `blobs-sum` | the same 32 blobs blended by one sum (for transparency) | 32 | forward-inclusion paper §7.2, Fig. 16 |
 //! | `molecule` | `iso − Σ` of ~500 Gaussian atoms on a compact random-walk chain | 500 | forward-inclusion paper §7.1, Fig. 14–15 (after Blinn 1982, Bruckner 2019) |
 //! | `hrbf-8`, `hrbf-17` | HRBF (`φ = r³`) through 8 / 17 points with normals on an ellipsoid | 8, 17 | forward-inclusion paper Fig. 13; thesis eq. 3.17 |
-//! | `scalis-tree` | SCALIS sum over a branching tree of segments with decreasing radii | ~200 | thesis Part III (SCALIS, Fig. 1.x trees) |
-//! | `scalis-foam` | SCALIS sum over the edges of a Voronoi diagram, constant radius | ~1,000 | thesis Part III ch. 1 (foam / lattice examples) |
-//! | `scalis-random` | SCALIS sum over random polyline skeletons, varying radii | 60 | thesis Part III ch. 1 |
+//! | `scalis-tree` | SCALIS sum over a branching tree of segments with decreasing radii | 200 | thesis Part III ch. 1 §1.8, Fig. 1.9 left |
+//! | `scalis-foam` | SCALIS sum over the edges of a Voronoi diagram, constant radius | ~1,000 | thesis Part III ch. 1 §1.8, Fig. 1.10 |
+//! | `scalis-random` | SCALIS sum over random polyline skeletons, varying radii | 60 | thesis Part III ch. 1 §1.8, Fig. 1.9 right |
 //! | `aggregate-N` (`N = 1‥4`) | recursive aggregate, CSG union, flat blobtree | 10, 110, 1,110, 11,110 | synchronized-tracing paper Fig. 16 |
 //! | `aggregate-N-smooth` | the same with the compact smooth union `G∪` | as above | synchronized-tracing paper Fig. 16, eq. 12 |
 //!
@@ -63,7 +64,8 @@
 //!   jittered), with the ellipsoid's outward normals, fitted by
 //!   [`Hrbf::fit`](boundtrace_fields::hrbf::Hrbf::fit). An HRBF with
 //!   `φ = r³` has no compact support and no global Lipschitz bound; the
-//!   bounds are the ellipsoid's box grown by 50 %, and `f > 0` on the box
+//!   bounds are the box of the ellipsoid's bounding ball (radius 1) grown
+//!   by 50 %, and `f > 0` on the box
 //!   faces is **checked by sampling** at build time (a 33 × 33 grid per
 //!   face; the point set is shrunk until it holds), not proven.
 //! - **scalis-tree**: a trunk and breadth-first branching (2 children, 3
@@ -95,7 +97,9 @@
 //!   with `β = 0.1 × scale` of the group it adds and `r_o = 2β`
 //!   (Lipschitz factor 12/11 per operator). Bounds: the primitives'
 //!   ABVs offset by the largest blend `Σ β/6` along their root path (the
-//!   compact union lowers the field by at most `β/6`).
+//!   compact union lowers the field by at most `β/6`); the sharp variant
+//!   uses the same frame and bounds, so both variants are the same shapes
+//!   at the same place.
 //!
 //! # Lipschitz bounds
 //!

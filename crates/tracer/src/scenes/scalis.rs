@@ -141,7 +141,7 @@ pub(crate) fn tree<T: Real>(seed: u64) -> Result<Built<T>, GenError> {
             queue.push_back((b, nd, len * 0.78, rb));
         }
     }
-    finish(segs, "procedural tree")
+    finish(segs, "procedural tree (thesis Fig. 1.9 left)")
 }
 
 /// `scalis-random`: 12 random polylines of 5 segments.
@@ -164,7 +164,7 @@ pub(crate) fn random<T: Real>(seed: u64) -> Result<Built<T>, GenError> {
             d = normalize(add_scaled(d, 0.9, rng.direction()));
         }
     }
-    finish(segs, "random polylines")
+    finish(segs, "random polylines (thesis Fig. 1.9 right)")
 }
 
 /// Seeds per axis of the foam's Voronoi diagram, and the clip box of its
@@ -285,7 +285,7 @@ pub(crate) fn foam<T: Real>(seed: u64) -> Result<Built<T>, GenError> {
     }
     finish(
         segs,
-        "Voronoi foam (edges of the Voronoi diagram of a jittered 7^3 grid)",
+        "Voronoi foam (thesis Fig. 1.10: edges of the Voronoi diagram of a jittered 7^3 grid)",
     )
 }
 
