@@ -1,33 +1,32 @@
-//! Renders a standard scene to PNG files: a headlight-shaded image and a
+//! Renders a standard scene ([`boundtrace::tracer::scenes`]) to PNG files: a headlight-shaded image and a
 //! steps heatmap (clamped to 75 steps, as the papers' figures), and prints
 //! the frame's totals (rays, roots, steps and evaluations per bounding-box
 //! ray, status counts).
 //!
 //! ```text
 //! cargo run --release --example render -- [--scene blobs] [--method quadratic-taylor]
-//!     [--mode opaque] [--size 512] [--out out/] [--heat-max 75]
+//!     [--mode opaque] [--size 512] [--out out/] [--heat-max 75] [--seed 2023]
 //! ```
+//!
+//! Scenes: every name of [`NAMES`] (an unknown name lists them).
 //!
 //! Rows render in parallel with `--features parallel` (same images). Bad
 //! arguments print a message and exit with code 2; rendering or I/O errors
 //! exit with code 1.
 
-use boundtrace::fields::{Blobs, Kernel, PointBlob};
 use boundtrace::tracer::camera::Camera;
 use boundtrace::tracer::render::{RenderSettings, render};
+use boundtrace::tracer::scenes::{DEFAULT_SEED, NAMES, Scene};
 use boundtrace::tracer::{Method, Mode};
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
 const USAGE: &str = "usage: render [--scene NAME] [--method METHOD] [--mode opaque|transparent] \
-[--size PIXELS] [--out DIR] [--heat-max STEPS]";
+[--size PIXELS] [--out DIR] [--heat-max STEPS] [--seed N]";
 
 /// The largest `--size`.
 const MAX_SIZE: u32 = 8192;
-
-/// The scenes this example knows.
-const SCENES: [&str; 1] = ["blobs"];
 
 /// Parsed command line.
 struct Args {
@@ -37,6 +36,7 @@ struct Args {
     size: u32,
     out: PathBuf,
     heat_max: u32,
+    seed: u64,
 }
 
 /// Parses the arguments after the program name; `Ok(None)` for `--help`.
@@ -48,23 +48,24 @@ fn parse(mut it: impl Iterator<Item = String>) -> Result<Option<Args>, String> {
         size: 512,
         out: PathBuf::from("out"),
         heat_max: 75,
+        seed: DEFAULT_SEED,
     };
     while let Some(flag) = it.next() {
         if flag == "--help" || flag == "-h" {
             return Ok(None);
         }
         let value = match flag.as_str() {
-            "--scene" | "--method" | "--mode" | "--size" | "--out" | "--heat-max" => it
+            "--scene" | "--method" | "--mode" | "--size" | "--out" | "--heat-max" | "--seed" => it
                 .next()
                 .ok_or_else(|| format!("missing value after {flag}"))?,
             _ => return Err(format!("unknown argument `{flag}`")),
         };
         match flag.as_str() {
             "--scene" => {
-                if !SCENES.contains(&value.as_str()) {
+                if !NAMES.contains(&value.as_str()) {
                     return Err(format!(
                         "unknown scene `{value}`; expected one of: {}",
-                        SCENES.join(" ")
+                        NAMES.join(" ")
                     ));
                 }
                 args.scene = value;
@@ -96,57 +97,28 @@ fn parse(mut it: impl Iterator<Item = String>) -> Result<Option<Args>, String> {
                         format!("--heat-max must be an integer >= 1, got `{value}`")
                     })?;
             }
+            "--seed" => {
+                args.seed = value
+                    .parse()
+                    .map_err(|_| format!("--seed must be an unsigned integer, got `{value}`"))?;
+            }
             _ => args.out = PathBuf::from(value), // --out
         }
     }
     Ok(Some(args))
 }
 
-/// The field of the local "blobs" scene.
-type BlobField = Blobs<f64, Vec<PointBlob<f64>>>;
-
-/// The local "blobs" scene: five overlapping compact blobs (degree 6) blended by
-/// summation, `f = ½ − Σ k` (forward-inclusion paper §4.4, eq. 7), with its
-/// bounding box.
-fn blobs_scene() -> Result<(BlobField, [[f64; 3]; 2]), String> {
-    let err = |e: boundtrace::fields::FieldError| format!("building the scene: {e}");
-    let k = Kernel::compact(6, 1.0).map_err(err)?;
-    let centres: [[f64; 3]; 5] = [
-        [-0.7, 0.0, 0.0],
-        [0.0, 0.05, 0.0],
-        [0.7, 0.0, 0.1],
-        [0.35, 0.62, -0.1],
-        [-0.3, -0.6, 0.3],
-    ];
-    let blobs = centres
-        .iter()
-        .map(|&c| PointBlob::new(c, 1.0, k))
-        .collect::<Result<Vec<_>, _>>()
-        .map_err(err)?;
-    let field = Blobs::new(0.5, blobs).map_err(err)?;
-    // Inside, Σ k ≥ ½, so some blob has k ≥ ½ / 5 = 0.1 there:
-    // (1 − r²)³ ≥ 0.1 gives r ≤ 0.732, so every surface point lies within
-    // 0.75 of a centre (a tighter box than the supports' of radius 1).
-    let mut bounds = [centres[0], centres[0]];
-    for c in centres {
-        for k in 0..3 {
-            bounds[0][k] = bounds[0][k].min(c[k] - 0.75);
-            bounds[1][k] = bounds[1][k].max(c[k] + 0.75);
-        }
-    }
-    Ok((field, bounds))
-}
-
 fn run(args: &Args) -> Result<(), String> {
-    // "blobs" is the only scene (checked by `parse`).
-    let (field, bounds) = blobs_scene()?;
+    let scene = Scene::<f64>::build(&args.scene, args.seed).map_err(|e| e.to_string())?;
+    let bounds = scene.bounds();
+    println!("scene {}: {}", scene.name(), scene.description());
     let camera = Camera::framing(bounds, [-0.5, -0.6, -1.0], 35.0, 1.0)
         .map_err(|e| format!("framing the scene: {e}"))?;
     let settings = RenderSettings::new(args.size, args.size, args.method)
         .map_err(|e| e.to_string())?
         .with_mode(args.mode);
     let start = Instant::now();
-    let frame = render(&field, &camera, bounds, &settings).map_err(|e| e.to_string())?;
+    let frame = render(scene.field(), &camera, bounds, &settings).map_err(|e| e.to_string())?;
     let elapsed = start.elapsed();
     std::fs::create_dir_all(&args.out)
         .map_err(|e| format!("creating {}: {e}", args.out.display()))?;
