@@ -22,19 +22,23 @@ cargo clippy --workspace --all-targets -- -D warnings
 step "cargo test --workspace"
 cargo test --workspace
 
-step "cargo test boundtrace-ia-core, -inclusion and -fields with the libm back end"
+step "cargo test boundtrace-ia-core, -inclusion, -fields and -tracer with the libm back end"
 cargo test -p boundtrace-ia-core -p boundtrace-inclusion --no-default-features --features libm
 cargo test -p boundtrace-fields --no-default-features --features libm,alloc
+cargo test -p boundtrace-tracer --no-default-features --features libm,alloc --lib
+
+step "cargo test boundtrace-tracer with the parallel feature (rayon; output equals serial)"
+cargo test -p boundtrace-tracer --features parallel --lib
 
 step "cargo doc (deny warnings)"
 RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps
 
-step "no_std build of boundtrace-ia-core, -inclusion and -fields for thumbv7em-none-eabihf"
+step "no_std build of boundtrace-ia-core, -inclusion, -fields and -tracer for thumbv7em-none-eabihf"
 cargo build -p boundtrace-ia-core -p boundtrace-inclusion -p boundtrace-fields \
-    --target thumbv7em-none-eabihf --no-default-features --features libm
-step "no_std + alloc build of boundtrace-fields (builders, HRBF storage)"
-cargo build -p boundtrace-fields --target thumbv7em-none-eabihf --no-default-features \
-    --features libm,alloc
+    -p boundtrace-tracer --target thumbv7em-none-eabihf --no-default-features --features libm
+step "no_std + alloc build of boundtrace-fields and -tracer (builders, HRBF storage, images)"
+cargo build -p boundtrace-fields -p boundtrace-tracer --target thumbv7em-none-eabihf \
+    --no-default-features --features libm,alloc
 
 step "ITF1788 conformance report"
 report=$(find "${CARGO_TARGET_DIR:-target}" -name itf1788-report.txt -path '*tmp*' 2>/dev/null | head -n 1)

@@ -367,6 +367,39 @@ impl<T: Real, S: AsRef<[PointBlob<T>]>> Blobs<T, S> {
         s
     }
 
+    /// The per-primitive extension of the forward-inclusion paper §6.2.1
+    /// (Fig. 9) for a compact blob that the ray enters at `t_e ∈ (t₀, t₁)`:
+    /// its density and slope are `0` at `t₀` and at `t_e` (degree ≥ 4, so
+    /// `k` is C¹ at the support boundary), hence with `f'' ∈ [m, M]` on the
+    /// support part, `½·m·(t − t_e)₊² ≤ f ≤ ½·M·(t − t_e)₊²`, and both
+    /// sides are bounded by the parabolas through `0` at `t₀` with the same
+    /// value at `t₁`: `½·[m, M]·s·(t − t₀)²` with
+    /// `s = ((t₁ − t_e)/(t₁ − t₀))² ≤ 1` (`(τ−δ)₊ ≤ τ(h−δ)/h` for
+    /// `0 ≤ τ ≤ h`). Returns `s` (rounded up, with `t_e` rounded down), or
+    /// `1` when the blob does not qualify.
+    #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN takes the `1` branch
+    fn entry_scale(b: &PointBlob<T>, r: &RayData<T>, t0: T, t1: T) -> Interval<T> {
+        let one = Interval::point(T::ONE);
+        let k = b.kernel;
+        if k.kind() != KernelKind::Compact
+            || k.degree() < 4
+            || r.u_t0.lo() < T::ONE
+            || !(r.a.lo() > T::ZERO)
+            || !(t1 > t0)
+        {
+            return one;
+        }
+        // Entry: u(t) = 1, i.e. t = t_m − √((1 − e)·σ²/|d|²) (e = closest u).
+        let sigma = k.sigma();
+        let half = ((one - r.e).max(Interval::point(T::ZERO)) * sigma * sigma / r.a).sqrt();
+        let te = (r.tm - half).lo();
+        if !(te > t0) || !(te < t1) {
+            return one;
+        }
+        let frac = (Interval::point(t1) - te) / (Interval::point(t1) - t0);
+        Interval::new(T::ZERO, frac.sqr().hi().min(T::ONE))
+    }
+
     /// Enclosures of `f(t₀)`, `f'(t₀)`, and `f'` on `[t₀, t₁]` (when not
     /// `second`; else `0`) or `f''` on `[t₀, t₁]` (when `second`; else `0`);
     /// `None` for an invalid interval.
@@ -388,8 +421,8 @@ impl<T: Real, S: AsRef<[PointBlob<T>]>> Blobs<T, S> {
             f0 = f0 + k.eval_u(r.u_t0) * w;
             df0 = df0 + k.d_u(r.u_t0) * r.du_t0 * w;
             if second {
-                let h = k.ray_curvature_range(r.u_min, r.u_max, r.e);
-                d2f = d2f + h * r.two_alpha * w;
+                let h = k.ray_curvature_range(r.u_min, r.u_max, r.e) * r.two_alpha;
+                d2f = d2f + h * Self::entry_scale(b, &r, t0, t1) * w;
             } else {
                 df = df + Self::slope_range(b, ray, &r, t0, t1, u_range) * w;
             }
@@ -467,6 +500,37 @@ mod tests {
         assert!(PointBlob::new([f64::NAN, 0.0, 0.0], 1.0, k).is_err());
         assert!(PointBlob::new([0.0; 3], f64::INFINITY, k).is_err());
         assert!(Blobs::new(f64::NAN, [PointBlob::new([0.0; 3], 1.0, k).unwrap()]).is_err());
+    }
+
+    #[test]
+    fn entry_extension_is_tighter_and_contains_samples() {
+        // Windows that start outside a compact support and enter it (§6.2.1).
+        for n in [4u32, 6, 8] {
+            let k = Kernel::compact(n, 1.0).unwrap();
+            let f = Blobs::new(0.3, [PointBlob::new([0.0, 0.0, 0.0], 1.0, k).unwrap()]).unwrap();
+            for (y, t0, len) in [
+                (0.0, 0.0, 2.5),
+                (0.4, 1.0, 1.5),
+                (0.9, 1.5, 2.0),
+                (0.2, 0.5, 0.8),
+            ] {
+                let ray = Ray::new([-3.0, y, 0.1], [1.0, 0.0, 0.0]);
+                let q = f.taylor_quadratic(&ray, t0, t0 + len).unwrap();
+                let mut tightened = false;
+                for i in 0..=400 {
+                    let tau = len * i as f64 / 400.0;
+                    let v: f64 = f.eval(ray.at(t0 + tau, t0 + tau));
+                    let b = q.bounds_at(tau);
+                    assert!(
+                        b.lo() <= v && v <= b.hi(),
+                        "n {n} y {y} t0 {t0} tau {tau}: {v} ∉ {b:?}"
+                    );
+                    // The unscaled bound would be iso − ½·M·τ² at the lower side.
+                    tightened |= b.lo() > 0.3 - 1e-9 - 0.5 * tau * tau;
+                }
+                assert!(tightened || t0 + len <= 2.0, "n {n}: no tightening");
+            }
+        }
     }
 
     #[test]

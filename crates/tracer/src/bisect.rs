@@ -9,14 +9,16 @@
 //! whose enclosure contains `0` is a *leaf*: the signs of `f` at its ends
 //! (as sound enclosures) decide between a crossing (registered at the middle, so within `eps / 2`
 //! of a true root, as [`Side::Entering`]/[`Side::Leaving`]) and a
-//! [`Side::Touch`]. Signs classify `f` not proven positive as inside, so a root at a shared
+//! [`Side::Touch`] — the latter only after halving the leaf further, down to
+//! `eps / 2^TOUCH_DEPTH` ([`TOUCH_DEPTH`](crate::march::TOUCH_DEPTH)),
+//! without excluding `0` or finding a sign change. Signs classify `f` not proven positive as inside, so a root at a shared
 //! end point is registered once.
 //!
 //! One *step* is one enclosure evaluation (the popped interval).
 //! [`STACK_CAPACITY`] bounds the depth; intervals that cannot be split
 //! further (float resolution, or the stack is full) are leaves.
 
-use crate::march::{Next, Walk, value_enclosure};
+use crate::march::{Next, TOUCH_DEPTH, Walk, value_enclosure};
 use crate::method::{Mode, Params};
 use crate::trace::{Root, Side, Status, Trace};
 use boundtrace_ia_core::{Affine, Interval, Real};
@@ -115,6 +117,8 @@ fn bisect<T: Real, F: Field<T>, M: Narrow<T>>(
     let mut stack = [(T::ZERO, T::ZERO); STACK_CAPACITY];
     stack[0] = (span[0], span[1]);
     let mut sp = 1usize;
+    // Leaves without a sign change are halved further, down to this width.
+    let fine = params.eps / T::from_f64(f64::from(1u32 << TOUCH_DEPTH));
     while sp > 0 {
         sp -= 1;
         let (a, b) = stack[sp];
@@ -134,13 +138,20 @@ fn bisect<T: Real, F: Field<T>, M: Narrow<T>>(
             sp += 2;
             continue;
         }
-        // A leaf: a crossing, or a touch.
+        // A leaf: a crossing, or (after further halving below eps, see
+        // `march::resolve`) a touch.
         let fa = value_enclosure(field, ray, a2);
         let fb = value_enclosure(field, ray, b2);
         w.stats.field_evals += 2;
         let side = match (inside(fa), inside(fb)) {
             (false, true) => Side::Entering,
             (true, false) => Side::Leaving,
+            _ if splittable && b2 - a2 > fine => {
+                stack[sp] = (mid, b2);
+                stack[sp + 1] = (a2, mid);
+                sp += 2;
+                continue;
+            }
             _ => Side::Touch,
         };
         let t = if fa.contains(T::ZERO) { a2 } else { mid };

@@ -29,8 +29,9 @@
 //!   within the enclosure's width and a [`Side::Touch`] root is registered.
 //!
 //! In opaque mode tracing stops at the first root; in transparent mode it
-//! resumes at `t + eps` on the other side, so every root is registered once
-//! (roots closer than `eps` may be reported once).
+//! resumes just past the root on the other side, with the window reset to
+//! the rest of the span (Alg. 1 started afresh), so every root is
+//! registered once (roots closer than `eps` may be reported once).
 //!
 //! # Minimal step
 //!
@@ -216,22 +217,91 @@ fn probe<T: Real, F: Field<T>>(
             Next::Stop(tr) => Probe::Stop(tr),
         };
     }
-    // Same sign at both ends: prove [t, tp] root-free, or call it a touch.
-    let enc: Interval<T> = field.eval(ray.at::<Interval<T>>(t, tp));
-    w.stats.bound_evals += 1;
-    if sign_of(enc) == approach {
-        return Probe::Clear(tp);
-    }
-    match w.register(
-        Root {
+    // Same sign at both ends: prove [t, tp] root-free, find a sign change
+    // in it, or call it a touch.
+    match resolve(field, ray, t, tp, approach, &mut w.stats) {
+        Fine::Clear => Probe::Clear(tp),
+        Fine::Crossing(t_root, m) => {
+            let side = if approach > 0 {
+                Side::Entering
+            } else {
+                Side::Leaving
+            };
+            match w.register(Root { t: t_root, side }, t) {
+                Next::Go => Probe::Root(m, -approach),
+                Next::Stop(tr) => Probe::Stop(tr),
+            }
+        }
+        Fine::Touch(u) => match w.register(
+            Root {
+                t: u,
+                side: Side::Touch,
+            },
             t,
-            side: Side::Touch,
+        ) {
+            Next::Go => Probe::Root(tp, approach),
+            Next::Stop(tr) => Probe::Stop(tr),
         },
-        t,
-    ) {
-        Next::Go => Probe::Root(tp, approach),
-        Next::Stop(tr) => Probe::Stop(tr),
     }
+}
+
+/// How many halvings below `eps` [`resolve`] tries before calling an
+/// undecided interval a touch (`eps / 4096`).
+pub const TOUCH_DEPTH: u32 = 12;
+
+/// The verdict of [`resolve`] on a short interval.
+pub(crate) enum Fine<T> {
+    /// Proven root-free.
+    Clear,
+    /// A sign change in `(u, m]`: a root at `t` (the bracket's middle) and
+    /// the point `m` after it, where the sign is the opposite one.
+    Crossing(T, T),
+    /// Neither proven root-free nor a sign change down to the finest
+    /// resolution, first at `u`: the field touches `0` there within the
+    /// enclosures' width.
+    Touch(T),
+}
+
+/// Decides a short interval `[a, b]` whose ends both have the sign `s ≠ 0`:
+/// interval bisection, left to right, down to `(b − a) / 2^TOUCH_DEPTH`,
+/// probing the sign at each midpoint. Interval enclosures are wide near a
+/// surface (a root just outside `[a, b]` keeps `0` in a coarse enclosure),
+/// so a coarse "cannot exclude `0`" alone would report spurious touches.
+pub(crate) fn resolve<T: Real, F: Field<T>>(
+    field: &F,
+    ray: &Ray<T>,
+    a: T,
+    b: T,
+    s: i32,
+    stats: &mut RayStats,
+) -> Fine<T> {
+    const CAP: usize = TOUCH_DEPTH as usize + 2;
+    let mut stack = [(T::ZERO, T::ZERO, 0u32); CAP];
+    stack[0] = (a, b, 0);
+    let mut sp = 1usize;
+    while sp > 0 {
+        sp -= 1;
+        let (u, v, d) = stack[sp];
+        let enc: Interval<T> = field.eval(ray.at::<Interval<T>>(u, v));
+        stats.bound_evals += 1;
+        if sign_of(enc) == s {
+            continue;
+        }
+        let m = u + (v - u) * T::HALF;
+        if d >= TOUCH_DEPTH || !(m > u && m < v) || sp + 2 > CAP {
+            return Fine::Touch(u);
+        }
+        let fm = value_enclosure(field, ray, m);
+        stats.field_evals += 1;
+        if sign_of(fm) != s {
+            // Everything left of u is cleared: the first root is in (u, m].
+            return Fine::Crossing(u + (m - u) * T::HALF, m);
+        }
+        stack[sp] = (m, v, d + 1);
+        stack[sp + 1] = (u, m, d + 1);
+        sp += 2;
+    }
+    Fine::Clear
 }
 
 /// A bound at `t` on `[t, e]` for the window-based methods; `None` when the
@@ -435,14 +505,15 @@ pub(crate) fn march<T: Real, F: Field<T>>(
                 Probe::Clear(tn) => {
                     prev = if s != 0 { s } else { prev };
                     t = tn;
+                    win = eps * params.k;
                 }
                 Probe::Root(tn, sn) => {
                     prev = sn;
                     t = tn;
+                    win = t1 - t;
                 }
                 Probe::Stop(tr) => return tr,
             }
-            win = eps * params.k;
             continue;
         }
         let near = match b.safe {
@@ -455,14 +526,17 @@ pub(crate) fn march<T: Real, F: Field<T>>(
                 Probe::Clear(tn) => {
                     prev = if s != 0 { s } else { prev };
                     t = tn;
+                    win = eps * params.k;
                 }
                 Probe::Root(tn, sn) => {
                     prev = sn;
                     t = tn;
+                    // Past a root (transparent mode) Alg. 1 starts afresh
+                    // on the rest of the span [t, t1].
+                    win = t1 - t;
                 }
                 Probe::Stop(tr) => return tr,
             }
-            win = eps * params.k;
             continue;
         }
         let step = match b.safe {

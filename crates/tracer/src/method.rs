@@ -191,14 +191,16 @@ impl<T: Real> Default for Params<T> {
 
 impl<T: Real> Params<T> {
     /// The defaults: `eps = 1e-4`, `min_step = 0` (off), `omega = 1`,
-    /// `k = 2` (the paper's), `max_steps = 512`.
+    /// `k = 2` (the paper's), `max_steps = 10_000` (sphere tracing of
+    /// density fields can need thousands of steps on grazing rays; the
+    /// other methods rarely need more than 100).
     pub fn new() -> Self {
         Self {
             eps: T::from_f64(1e-4),
             min_step: T::ZERO,
             omega: T::ONE,
             k: T::TWO,
-            max_steps: 512,
+            max_steps: 10_000,
         }
     }
 
