@@ -25,3 +25,8 @@ pub use boundtrace_fields as fields;
 pub use boundtrace_ia_core as ia_core;
 pub use boundtrace_inclusion as inclusion;
 pub use boundtrace_tracer as tracer;
+
+/// The README's code blocks, compiled and run as doc tests.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;
