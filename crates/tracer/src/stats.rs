@@ -39,6 +39,7 @@
 //! ```
 
 use crate::method::{InvalidParams, Method, Mode, Params};
+use crate::scenes::Scene;
 use crate::trace::{RayStats, Root, Side, Status, trace};
 use boundtrace_ia_core::{Interval, Real};
 use boundtrace_inclusion::{Field, FieldNum, Ray};
@@ -242,6 +243,16 @@ impl<T: Real> RaySet<T> {
     /// The rays, in index order.
     pub fn rays(&self) -> &[SampleRay<T>] {
         &self.rays
+    }
+
+    /// The first `n` rays (all when `n ≥ len`): the set built with count
+    /// `n`, without regenerating it.
+    pub fn prefix(&self, n: usize) -> Self {
+        Self {
+            bounds: self.bounds,
+            seed: self.seed,
+            rays: self.rays[..n.min(self.rays.len())].to_vec(),
+        }
     }
 }
 
@@ -628,6 +639,14 @@ impl<T: Real> Reference<T> {
     /// The root groups of ray `i` (empty when out of range).
     pub fn roots(&self, i: usize) -> &[RefRoot<T>] {
         self.roots.get(i).map_or(&[], Vec::as_slice)
+    }
+
+    /// The reference of the first `n` rays (of [`RaySet::prefix`]).
+    pub fn prefix(&self, n: usize) -> Self {
+        Self {
+            params: self.params,
+            roots: self.roots[..n.min(self.roots.len())].to_vec(),
+        }
     }
 
     /// Rays with at least one certain root.
@@ -1230,6 +1249,38 @@ fn summarize(method: Method, mode: Mode, rays: usize, mut acc: Acc) -> MethodSta
         wrong_side,
         failures: acc.failures,
     }
+}
+
+/// [`Reference::compute`] for a standard scene, non-generic: the harness
+/// is compiled and optimised in this crate even when the caller (an
+/// unoptimised test or example) is not.
+///
+/// # Errors
+/// As [`Reference::compute`].
+#[inline(never)]
+pub fn scene_reference(
+    scene: &Scene<f64>,
+    rays: &RaySet<f64>,
+    params: &ReferenceParams<f64>,
+) -> Result<Reference<f64>, StatsError> {
+    Reference::compute(scene.field(), rays, params)
+}
+
+/// [`run_method`] for a standard scene, non-generic (see
+/// [`scene_reference`]).
+///
+/// # Errors
+/// As [`run_method`].
+#[inline(never)]
+pub fn run_scene_method(
+    scene: &Scene<f64>,
+    rays: &RaySet<f64>,
+    reference: &Reference<f64>,
+    method: Method,
+    mode: Mode,
+    params: &Params<f64>,
+) -> Result<MethodStats, StatsError> {
+    run_method(scene.field(), rays, reference, method, mode, params)
 }
 
 // ---------------------------------------------------------------------------
