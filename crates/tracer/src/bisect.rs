@@ -113,7 +113,7 @@ fn bisect<T: Real, F: Field<T>, M: Narrow<T>>(
     params: &Params<T>,
     roots: &mut [Root<T>],
 ) -> Trace<T> {
-    let mut w = Walk::new(roots, mode);
+    let mut w = Walk::new(roots, mode, params.eps);
     let mut stack = [(T::ZERO, T::ZERO); STACK_CAPACITY];
     stack[0] = (span[0], span[1]);
     let mut sp = 1usize;

@@ -12,7 +12,7 @@
 //! use boundtrace_tracer::{Method, Params, first_root};
 //!
 //! // Two compact blobs blended by summation: f = ½ − Σ k.
-//! let k = Kernel::compact(6, 1.0)?;
+//! let k = Kernel::<f64>::compact(6, 1.0)?;
 //! let blobs = [
 //!     PointBlob::new([-0.4, 0.0, 0.0], 1.0, k)?,
 //!     PointBlob::new([0.4, 0.0, 0.0], 1.0, k)?,

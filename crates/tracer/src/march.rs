@@ -114,6 +114,7 @@ pub(crate) struct Walk<'a, T> {
     pub(crate) n: u32,
     pub(crate) stats: RayStats,
     pub(crate) mode: Mode,
+    pub(crate) eps: T,
 }
 
 /// Whether to go on after registering a root.
@@ -125,12 +126,13 @@ pub(crate) enum Next<T> {
 }
 
 impl<'a, T: Real> Walk<'a, T> {
-    pub(crate) fn new(roots: &'a mut [Root<T>], mode: Mode) -> Self {
+    pub(crate) fn new(roots: &'a mut [Root<T>], mode: Mode, eps: T) -> Self {
         Self {
             roots,
             n: 0,
             stats: RayStats::default(),
             mode,
+            eps,
         }
     }
 
@@ -144,7 +146,20 @@ impl<'a, T: Real> Walk<'a, T> {
     }
 
     /// Registers a root at `t` (the span before `t_before` is processed).
+    /// A [`Side::Touch`] within `eps` of the previous root is the same
+    /// contact and is dropped; a crossing within `eps` after a touch
+    /// replaces it (roots closer than `eps` are reported once).
     pub(crate) fn register(&mut self, root: Root<T>, t_before: T) -> Next<T> {
+        if let Some(last) = self.n.checked_sub(1).map(|i| self.roots[i as usize]) {
+            if (root.t - last.t).abs() <= self.eps {
+                if root.side == Side::Touch {
+                    return Next::Go;
+                }
+                if last.side == Side::Touch {
+                    self.n -= 1;
+                }
+            }
+        }
         let i = self.n as usize;
         if i >= self.roots.len() {
             return Next::Stop(self.done(Status::BufferFull, t_before));
@@ -469,7 +484,7 @@ pub(crate) fn march<T: Real, F: Field<T>>(
     }
     let [t0, t1] = span;
     let eps = params.eps;
-    let mut w = Walk::new(roots, mode);
+    let mut w = Walk::new(roots, mode, params.eps);
     let mut t = t0;
     let mut win = t1 - t0;
     let mut prev = 0i32;
@@ -564,7 +579,7 @@ fn sphere<T: Real, F: Field<T>>(
     roots: &mut [Root<T>],
 ) -> Trace<T> {
     let [t0, t1] = span;
-    let mut w = Walk::new(roots, mode);
+    let mut w = Walk::new(roots, mode, params.eps);
     let Some(l) = field.lipschitz() else {
         return w.done(Status::Unsupported, t0);
     };
