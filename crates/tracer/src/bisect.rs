@@ -10,7 +10,7 @@
 //! (as sound enclosures) decide between a crossing (registered at the middle, so within `eps / 2`
 //! of a true root, as [`Side::Entering`]/[`Side::Leaving`]) and a
 //! [`Side::Touch`] — the latter only after halving the leaf further, down to
-//! `eps / 2^TOUCH_DEPTH` ([`TOUCH_DEPTH`](crate::march::TOUCH_DEPTH)),
+//! `eps / 2^TOUCH_DEPTH` ([`TOUCH_DEPTH`]),
 //! without excluding `0` or finding a sign change. Signs classify `f` not proven positive as inside, so a root at a shared
 //! end point is registered once.
 //!

@@ -260,7 +260,7 @@ fn probe<T: Real, F: Field<T>>(
     }
 }
 
-/// How many halvings below `eps` [`resolve`] tries before calling an
+/// How many halvings below `eps` the marchers and bisections try before calling an
 /// undecided interval a touch (`eps / 4096`).
 pub const TOUCH_DEPTH: u32 = 12;
 
