@@ -158,6 +158,19 @@ fn bisect<T: Real, F: Field<T>, M: Narrow<T>>(
         if let Next::Stop(tr) = w.register(Root { t, side }, a) {
             return tr;
         }
+        if side == Side::Touch {
+            // The rest of this contact, up to t + eps, is the same root:
+            // drop or trim the pending intervals there (a near-zero stretch
+            // would otherwise be explored down to the finest level
+            // everywhere).
+            let end = t + params.eps;
+            while sp > 0 && stack[sp - 1].1 <= end {
+                sp -= 1;
+            }
+            if sp > 0 && stack[sp - 1].0 < end {
+                stack[sp - 1].0 = end;
+            }
+        }
     }
     w.done(Status::Finished, span[1])
 }
