@@ -491,14 +491,20 @@ fn side<T: Real, N: FieldNum<T>>(f: &N, lo: T, hi: T) -> Side {
 /// A sound answer for operands whose enclosure is unbounded (or NaN): no
 /// arithmetic on infinities (which gives NaN for `∞ − ∞`, `0·∞`).
 /// `G∩ ∈ [csg, csg + β/6]` since `b_r ≤ β` there; `G∪ ∈ [csg − D, csg]`
-/// with `D = b_max/6`, `b_max = β(1 − k(csg_lo − β/6))₊` (`D = 0` when
-/// `csg_lo = −∞`, the lower side being `−∞` already). Point types get `csg`.
+/// with `D = b_max/6`, `b_max = β(1 − k(csg_lo − β/6))₊` (`D = β/6` when
+/// `csg_lo = −∞`: a forward bound's start stays finite and exact even when
+/// its enclosure is unbounded). Point types get `csg`.
 fn unbounded_fallback<T: Real, N: FieldNum<T>>(csg: N, union: bool, beta: T, r_o: T) -> N {
     let six = T::from_f64(6.0);
     if union {
         let lo = csg.enclosure().lo();
+        // Without a finite lower end, D ≤ β/6 (b ≤ β) still holds. A
+        // forward bound can have an unbounded enclosure (infinite
+        // coefficients) while its start is exact: returning `csg` there
+        // would drop the blend from the start enclosure.
+        let d_any = beta / six;
         if lo.is_nan() || lo == T::NEG_INFINITY {
-            return csg;
+            return csg.join(csg - d_any);
         }
         let k = six / (six * r_o - beta);
         let b_max = beta * (T::ONE - k * (lo - beta / six)).max(T::ZERO);
@@ -506,7 +512,7 @@ fn unbounded_fallback<T: Real, N: FieldNum<T>>(csg: N, union: bool, beta: T, r_o
         if d.is_finite() {
             csg.join(csg - d)
         } else {
-            csg
+            csg.join(csg - d_any)
         }
     } else {
         csg.join(csg + beta / six)
@@ -551,6 +557,36 @@ fn compact<T: Real, N: FieldNum<T>>(f0: N, f1: N, union: bool, beta: T, r_o: T) 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn unbounded_forward_operand_keeps_the_blend_in_the_start() {
+        // A forward bound can be valid with infinite curvature coefficients
+        // (so an unbounded enclosure) and an exact start; the compact union
+        // must still subtract the blend at the start (regression: the start
+        // was `min(f0, f1)` alone, above the true value).
+        use boundtrace_ia_core::Interval;
+        use boundtrace_inclusion::ForwardQuadratic;
+        let inf = f64::INFINITY;
+        let (v0, v1) = (0.20555832541155272, 0.19962202533782458);
+        let f0 =
+            ForwardQuadratic::from_parts(Interval::point(v0), [-1.17, -inf], [-0.55, inf], 0.5);
+        let f1 =
+            ForwardQuadratic::from_parts(Interval::point(v1), [-0.65, 1.0], [-0.58, 0.92], 0.5);
+        for op in [
+            Operator::compact_union(0.13, 0.26).unwrap(),
+            Operator::compact_intersection(0.13, 0.26).unwrap(),
+            Operator::compact_difference(0.13, 0.26).unwrap(),
+        ] {
+            let exact: f64 = op.eval(v0, v1);
+            let b = op.eval(f0, f1);
+            assert!(b.is_valid());
+            assert!(
+                b.start().contains(exact),
+                "{op:?}: {exact} ∉ {:?}",
+                b.start()
+            );
+        }
+    }
 
     #[test]
     fn continuity_at_boundary() {
