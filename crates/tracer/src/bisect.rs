@@ -163,12 +163,27 @@ fn bisect<T: Real, F: Field<T>, M: Narrow<T>>(
             // drop or trim the pending intervals there (a near-zero stretch
             // would otherwise be explored down to the finest level
             // everywhere).
-            let end = t + params.eps;
+            let end = (t + params.eps).min(span[1]);
             while sp > 0 && stack[sp - 1].1 <= end {
                 sp -= 1;
             }
             if sp > 0 && stack[sp - 1].0 < end {
                 stack[sp - 1].0 = end;
+            }
+            // A sign change across the dropped part is a crossing next to
+            // the touch: it replaces the touch (see `Walk::register`).
+            let fe = value_enclosure(field, ray, end);
+            w.stats.field_evals += 1;
+            let side = match (inside(fa), inside(fe)) {
+                (false, true) => Some(Side::Entering),
+                (true, false) => Some(Side::Leaving),
+                _ => None,
+            };
+            if let Some(side) = side {
+                let tc = t + (end - t) * T::HALF;
+                if let Next::Stop(tr) = w.register(Root { t: tc, side }, a) {
+                    return tr;
+                }
             }
         }
     }
@@ -211,6 +226,26 @@ mod tests {
                 (tr.status, tr.roots, tr.t_reached),
                 (Status::Finished, 1, buf[0].t)
             );
+        }
+    }
+
+    #[test]
+    fn roots_on_bisection_boundaries_are_reported_once_with_their_side() {
+        // Through the centre: the roots t = 2 and t = 4 fall exactly on
+        // (pruned) interval ends, next to leaves that cannot decide.
+        let p = Params::new();
+        let ray = Ray::new([-3.0, 0.0, 0.0], [1.0, 0.0, 0.0]);
+        for m in [Method::Interval, Method::Affine] {
+            let mut buf = [NONE; 8];
+            let tr = trace(&Ball, &ray, [0.0, 6.0], m, Mode::Transparent, &p, &mut buf);
+            let got = &buf[..tr.roots as usize];
+            assert_eq!(got.len(), 2, "{m}: {got:?}");
+            assert_eq!(
+                (got[0].side, got[1].side),
+                (Side::Entering, Side::Leaving),
+                "{m}"
+            );
+            assert!((got[0].t - 2.0).abs() <= p.eps && (got[1].t - 4.0).abs() <= p.eps);
         }
     }
 
