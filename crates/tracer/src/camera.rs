@@ -451,7 +451,9 @@ pub fn ray_box_span<T: Real>(ray: &Ray<T>, bounds: &[[T; 3]; 2]) -> Option<[T; 2
 
 #[cfg(test)]
 mod tests {
+    extern crate std;
     use super::*;
+    use std::string::ToString;
 
     fn close(a: [f64; 3], b: [f64; 3], tol: f64) -> bool {
         (0..3).all(|i| (a[i] - b[i]).abs() <= tol)

@@ -365,7 +365,9 @@ pub fn normal_rgb(n: [f64; 3]) -> [u8; 3] {
 
 #[cfg(test)]
 mod tests {
+    extern crate std;
     use super::*;
+    use std::string::ToString;
 
     fn luminance(c: [u8; 3]) -> f64 {
         0.2126 * f64::from(c[0]) + 0.7152 * f64::from(c[1]) + 0.0722 * f64::from(c[2])
