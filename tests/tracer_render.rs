@@ -7,11 +7,14 @@
 //! Lipschitz bound 1) and compare every pixel with the analytic
 //! ray–sphere intersection.
 
-use boundtrace::inclusion::{Field, FieldNum, Ray};
+mod common;
+
+use boundtrace::inclusion::{FieldNum, Ray};
 use boundtrace::tracer::camera::{Camera, CameraError, Projection, ray_box_span};
 use boundtrace::tracer::image::{Image, PNG_SIGNATURE, heat, viridis};
 use boundtrace::tracer::render::{Frame, RenderSettings, Shading, render};
 use boundtrace::tracer::{Method, Mode, Params, Side, Status};
+use common::shapes::Ball;
 
 // ---------------------------------------------------------------- helpers
 
@@ -384,22 +387,6 @@ fn heatmap_is_monotone_and_clamped() {
 }
 
 // ---------------------------------------------------------------- rendering
-
-/// A ball as a signed distance (Lipschitz 1, no Taylor bound).
-struct Ball {
-    c: [f64; 3],
-    r: f64,
-}
-
-impl Field<f64> for Ball {
-    fn eval<N: FieldNum<f64>>(&self, p: [N; 3]) -> N {
-        ((p[0] - self.c[0]).sqr() + (p[1] - self.c[1]).sqr() + (p[2] - self.c[2]).sqr()).sqrt()
-            - self.r
-    }
-    fn lipschitz(&self) -> Option<f64> {
-        Some(1.0)
-    }
-}
 
 const BALL: Ball = Ball {
     c: [0.2, -0.1, 0.3],

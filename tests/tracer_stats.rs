@@ -3,30 +3,17 @@
 //! the classification rules on hand-made traces, ray-set determinism and
 //! face coverage, and `run_method`/`markdown_table` end to end.
 
+mod common;
+
 use boundtrace::inclusion::{Field, FieldNum, Ray};
 use boundtrace::tracer::stats::{
     RaySet, RefRoot, Reference, ReferenceParams, StatsError, Verdict, classify, markdown_table,
     reference_roots, run_method,
 };
 use boundtrace::tracer::{Method, Mode, Params, Root, Side, Status};
+use common::shapes::Ball;
 
 const EPS: f64 = 1e-4;
-
-/// A ball as a signed distance.
-struct Ball {
-    c: [f64; 3],
-    r: f64,
-}
-
-impl Field<f64> for Ball {
-    fn eval<N: FieldNum<f64>>(&self, p: [N; 3]) -> N {
-        ((p[0] - self.c[0]).sqr() + (p[1] - self.c[1]).sqr() + (p[2] - self.c[2]).sqr()).sqrt()
-            - self.r
-    }
-    fn lipschitz(&self) -> Option<f64> {
-        Some(1.0)
-    }
-}
 
 impl Ball {
     /// The exact entry and exit of a ray with a unit direction, if it hits.

@@ -6,6 +6,7 @@
 //! - [`strategies`]: proptest strategies for floats (infinities, signed
 //!   zeros, subnormals, huge values, anchors such as `ln MAX` and `kπ/2`),
 //!   intervals and affine forms;
+//! - [`shapes`]: analytic fields with known roots (the tracer tests);
 //! - [`check`]: sample points of intervals and affine forms (endpoints,
 //!   interior points, non-float reals next to endpoints and zero, reals beyond
 //!   the float range in unbounded intervals, critical points of `sin`/`cos`)
@@ -16,6 +17,7 @@
 
 pub mod check;
 pub mod reference;
+pub mod shapes;
 pub mod strategies;
 
 use std::fmt::{Debug, Display, LowerExp};

@@ -218,7 +218,10 @@ impl<T: Real, S: AsRef<[PointBlob<T>]>> Blobs<T, S> {
     /// The summed density `Σ wᵢ kᵢ(|p − cᵢ|)` in any number type (compact
     /// blobs proven out of reach are skipped: their density is exactly 0).
     pub fn density<N: FieldNum<T>>(&self, p: [N; 3]) -> N {
-        let mut acc = N::constant(T::ZERO);
+        // `0` carrying the query's validity: a bound where every primitive is
+        // culled must not claim validity beyond the interval the culling
+        // was decided on (a constant's is infinite).
+        let mut acc = crate::zero_like::<T, N>(&p[0]);
         for b in self.blobs.as_ref() {
             let c = b.center;
             let d2 = (p[0] - c[0]).sqr() + (p[1] - c[1]).sqr() + (p[2] - c[2]).sqr();
@@ -500,6 +503,21 @@ mod tests {
         assert!(PointBlob::new([f64::NAN, 0.0, 0.0], 1.0, k).is_err());
         assert!(PointBlob::new([0.0; 3], f64::INFINITY, k).is_err());
         assert!(Blobs::new(f64::NAN, [PointBlob::new([0.0; 3], 1.0, k).unwrap()]).is_err());
+    }
+
+    #[test]
+    fn culled_bounds_keep_the_window_validity() {
+        // Every blob out of reach: the bound is the constant iso, valid on
+        // the queried window only (the culling was decided on it).
+        let k = Kernel::compact(6, 0.5).unwrap();
+        let f = Blobs::new(0.3, [PointBlob::new([5.0, 5.0, 5.0], 1.0, k).unwrap()]).unwrap();
+        let ray = Ray::new([0.0; 3], [1.0, 0.0, 0.0]);
+        let q: ForwardQuadratic<f64> = f.eval(ray.at(0.0, 1.0));
+        let l: ForwardLinear<f64> = f.eval(ray.at(0.0, 1.0));
+        assert!(q.validity() <= 1.0 && l.validity() <= 1.0, "{q:?} {l:?}");
+        assert!(q.start().contains(0.3) && q.range().contains(0.3));
+        let v: f64 = f.eval(ray.at(0.5, 0.5));
+        assert_eq!(v, 0.3);
     }
 
     #[test]

@@ -68,6 +68,20 @@ pub mod sdf;
 pub mod transform;
 
 pub use blob::{Blobs, PointBlob};
+
+/// `0` in the number type of `x`, with `x`'s validity interval for the
+/// forward types (`x·0`); a plain constant when `x` is unbounded (where
+/// `x·0` would be NaN for floats).
+#[inline]
+pub(crate) fn zero_like<T: boundtrace_ia_core::Real, N: boundtrace_inclusion::FieldNum<T>>(
+    x: &N,
+) -> N {
+    if x.enclosure().is_bounded() {
+        *x * T::ZERO
+    } else {
+        N::constant(T::ZERO)
+    }
+}
 pub use error::FieldError;
 pub use kernel::{Kernel, KernelKind};
 pub use operator::{Operator, OperatorClass, OperatorKind};

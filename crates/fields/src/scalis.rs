@@ -1165,7 +1165,10 @@ impl<T: Real, S: AsRef<[ScalisSegment<T>]>> ScalisSkeleton<T, S> {
     /// `Σ fᵢ(p)` (segments whose support `p` cannot reach are skipped).
     pub fn density<N: FieldNum<T>>(&self, p: [N; 3]) -> N {
         let e = enclose3(&p);
-        let mut acc = N::constant(T::ZERO);
+        // `0` carrying the query's validity: a bound where every primitive is
+        // culled must not claim validity beyond the interval the culling
+        // was decided on (a constant's is infinite).
+        let mut acc = crate::zero_like::<T, N>(&p[0]);
         for s in self.segments.as_ref() {
             if s.misses(&e) {
                 continue;
@@ -1367,6 +1370,18 @@ mod tests {
     /// Culling by support boxes leaves every value and bound unchanged:
     /// a skeleton with far-away segments gives the same results as the
     /// skeleton of the near ones, and the Lipschitz bound holds.
+    #[test]
+    fn culled_bounds_keep_the_window_validity() {
+        let k = SegmentKernel::compact_polynomial(6, 2.0).unwrap();
+        let seg = Segment::new([10.0, 0.0, 0.0], 0.3, [11.0, 0.0, 0.0], 0.3).unwrap();
+        let sk = ScalisSkeleton::new([ScalisSegment::new(seg, k, 1.0).unwrap()]).unwrap();
+        let ray = Ray::new([0.0; 3], [0.0, 1.0, 0.0]);
+        let q: ForwardQuadratic<f64> = sk.eval(ray.at(0.0, 1.0));
+        assert!(q.validity() <= 1.0, "{q:?}");
+        let v: f64 = sk.eval(ray.at(0.5, 0.5));
+        assert!(q.range().contains(v));
+    }
+
     #[test]
     fn culling_keeps_values_and_bounds() {
         let k = SegmentKernel::compact_polynomial(6, 2.0).unwrap();

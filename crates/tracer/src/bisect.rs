@@ -36,11 +36,12 @@ fn inside<T: Real>(f: Interval<T>) -> bool {
 
 /// How an enclosure method narrows `[a, b]`: `None` when it proves it
 /// root-free, else the (possibly pruned) sub-interval that may hold roots.
-trait Narrow<T: Real> {
+pub(crate) trait Narrow<T: Real> {
     fn narrow<F: Field<T>>(field: &F, ray: &Ray<T>, a: T, b: T) -> Option<(T, T)>;
 }
 
-struct ByInterval;
+/// Interval arithmetic (Mitchell 1990).
+pub(crate) struct ByInterval;
 impl<T: Real> Narrow<T> for ByInterval {
     #[inline]
     fn narrow<F: Field<T>>(field: &F, ray: &Ray<T>, a: T, b: T) -> Option<(T, T)> {
@@ -49,7 +50,8 @@ impl<T: Real> Narrow<T> for ByInterval {
     }
 }
 
-struct ByAffine;
+/// Revised affine arithmetic with interval pruning (Fryazinov et al. 2010).
+pub(crate) struct ByAffine;
 impl<T: Real> Narrow<T> for ByAffine {
     /// Revised affine form `f ∈ x₀ + x₁·ε₀ ± R` with the ray `t = m + r·ε₀`
     /// (noise symbol 0): roots need `|x₀ + x₁ε₀| ≤ R`, i.e.
@@ -80,32 +82,9 @@ impl<T: Real> Narrow<T> for ByAffine {
     }
 }
 
-/// Interval-arithmetic bisection of `ray` on `span`.
-pub(crate) fn interval<T: Real, F: Field<T>>(
-    field: &F,
-    ray: &Ray<T>,
-    span: [T; 2],
-    mode: Mode,
-    params: &Params<T>,
-    roots: &mut [Root<T>],
-) -> Trace<T> {
-    bisect::<T, F, ByInterval>(field, ray, span, mode, params, roots)
-}
-
-/// Revised-affine-arithmetic bisection with interval pruning of `ray` on
-/// `span`.
-pub(crate) fn affine<T: Real, F: Field<T>>(
-    field: &F,
-    ray: &Ray<T>,
-    span: [T; 2],
-    mode: Mode,
-    params: &Params<T>,
-    roots: &mut [Root<T>],
-) -> Trace<T> {
-    bisect::<T, F, ByAffine>(field, ray, span, mode, params, roots)
-}
-
-fn bisect<T: Real, F: Field<T>, M: Narrow<T>>(
+/// Bisection of `ray` on `span`, narrowing with `M` ([`ByInterval`] or
+/// [`ByAffine`]).
+pub(crate) fn bisect<T: Real, F: Field<T>, M: Narrow<T>>(
     field: &F,
     ray: &Ray<T>,
     span: [T; 2],

@@ -179,6 +179,31 @@ fn check_aspect<T: Real>(aspect: T) -> Result<(), CameraError> {
     }
 }
 
+/// The checks every constructor starts with: finite points, a valid aspect.
+fn check_inputs<T: Real>(
+    eye: [T; 3],
+    target: [T; 3],
+    up: [T; 3],
+    aspect: T,
+) -> Result<(), CameraError> {
+    if !(finite3(eye) && finite3(target) && finite3(up)) {
+        return Err(CameraError::NotFinite);
+    }
+    check_aspect(aspect)
+}
+
+/// The orthonormal `[right, up, forward]` of a camera at `eye` looking at
+/// `target`.
+fn look_at<T: Real>(eye: [T; 3], target: [T; 3], up: [T; 3]) -> Result<[[T; 3]; 3], CameraError> {
+    if eye == target {
+        return Err(CameraError::EyeAtTarget);
+    }
+    basis(sub(target, eye), up).map_err(|e| match e {
+        CameraError::ZeroViewDirection => CameraError::EyeAtTarget,
+        e => e,
+    })
+}
+
 impl<T: Real> Camera<T> {
     /// A perspective look-at camera at `eye` looking at `target`, with `up`
     /// towards the top of the image (need not be orthogonal to the view
@@ -197,18 +222,9 @@ impl<T: Real> Camera<T> {
         fov_y_degrees: T,
         aspect: T,
     ) -> Result<Self, CameraError> {
-        if !(finite3(eye) && finite3(target) && finite3(up)) {
-            return Err(CameraError::NotFinite);
-        }
-        check_aspect(aspect)?;
+        check_inputs(eye, target, up, aspect)?;
         let tan = half_tan(fov_y_degrees)?;
-        if eye == target {
-            return Err(CameraError::EyeAtTarget);
-        }
-        let [right, up, forward] = basis(sub(target, eye), up).map_err(|e| match e {
-            CameraError::ZeroViewDirection => CameraError::EyeAtTarget,
-            e => e,
-        })?;
+        let [right, up, forward] = look_at(eye, target, up)?;
         let scale = [tan * aspect, tan];
         if !(scale[0].is_finite() && scale[0] > T::ZERO) {
             return Err(CameraError::BadAspect);
@@ -237,20 +253,11 @@ impl<T: Real> Camera<T> {
         view_height: T,
         aspect: T,
     ) -> Result<Self, CameraError> {
-        if !(finite3(eye) && finite3(target) && finite3(up)) {
-            return Err(CameraError::NotFinite);
-        }
-        check_aspect(aspect)?;
+        check_inputs(eye, target, up, aspect)?;
         if !(view_height > T::ZERO && view_height.is_finite()) {
             return Err(CameraError::BadViewHeight);
         }
-        if eye == target {
-            return Err(CameraError::EyeAtTarget);
-        }
-        let [right, up, forward] = basis(sub(target, eye), up).map_err(|e| match e {
-            CameraError::ZeroViewDirection => CameraError::EyeAtTarget,
-            e => e,
-        })?;
+        let [right, up, forward] = look_at(eye, target, up)?;
         let half = view_height * T::HALF;
         let scale = [half * aspect, half];
         if !(scale[0].is_finite() && scale[0] > T::ZERO && scale[1] > T::ZERO) {

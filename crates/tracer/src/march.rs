@@ -183,6 +183,19 @@ enum Probe<T> {
     Stop(Trace<T>),
 }
 
+impl<T> Probe<T> {
+    /// Where to go on after a probe at a point of sign `s` (sign `prev`
+    /// before it): the new `t`, the sign before it and whether a root was
+    /// registered; or the final record.
+    fn landing(self, s: i32, prev: i32) -> Result<(T, i32, bool), Trace<T>> {
+        match self {
+            Probe::Clear(tn) => Ok((tn, if s != 0 { s } else { prev }, false)),
+            Probe::Root(tn, sn) => Ok((tn, sn, true)),
+            Probe::Stop(tr) => Err(tr),
+        }
+    }
+}
+
 /// The root test near `t`: `s` is the sign at `t` (`0` if `f(t)` is not
 /// proven nonzero), `prev` the sign before `t` (`0` at the start of the
 /// span), `r` the proven root-free length from `t`.
@@ -319,6 +332,33 @@ pub(crate) fn resolve<T: Real, F: Field<T>>(
     Fine::Clear
 }
 
+/// A forward bound of the given kind (what `linear_bound`/`quadratic_bound`
+/// of `boundtrace-inclusion` compute), counting its bound evaluations: one,
+/// or two for "mixed" when the field has a Taylor bound.
+fn by_kind<B>(
+    kind: BoundKind,
+    stats: &mut RayStats,
+    bottom_up: impl FnOnce() -> B,
+    taylor: impl FnOnce() -> Option<B>,
+    tighter: impl FnOnce(B, B) -> B,
+) -> Option<B> {
+    stats.bound_evals += 1;
+    match kind {
+        BoundKind::BottomUp => Some(bottom_up()),
+        BoundKind::Taylor => taylor(),
+        BoundKind::Mixed => {
+            let b = bottom_up();
+            Some(match taylor() {
+                Some(ty) => {
+                    stats.bound_evals += 1;
+                    tighter(b, ty)
+                }
+                None => b,
+            })
+        }
+    }
+}
+
 /// A bound at `t` on `[t, e]` for the window-based methods; `None` when the
 /// method needs a bound the field lacks.
 fn window_bound<T: Real, F: Field<T>>(
@@ -330,51 +370,23 @@ fn window_bound<T: Real, F: Field<T>>(
     stats: &mut RayStats,
 ) -> Option<StepBound<T>> {
     let len = e - t;
-    let linear = |kind: BoundKind, stats: &mut RayStats| -> Option<ForwardLinear<T>> {
-        match kind {
-            BoundKind::BottomUp => {
-                stats.bound_evals += 1;
-                Some(field.eval(ray.at(t, e)))
-            }
-            BoundKind::Taylor => {
-                stats.bound_evals += 1;
-                field.taylor_linear(ray, t, e)
-            }
-            BoundKind::Mixed => {
-                stats.bound_evals += 1;
-                let b: ForwardLinear<T> = field.eval(ray.at(t, e));
-                Some(match field.taylor_linear(ray, t, e) {
-                    Some(ty) => {
-                        stats.bound_evals += 1;
-                        b.tighter(ty)
-                    }
-                    None => b,
-                })
-            }
-        }
+    let linear = |kind, stats: &mut RayStats| {
+        by_kind(
+            kind,
+            stats,
+            || field.eval(ray.at(t, e)),
+            || field.taylor_linear(ray, t, e),
+            ForwardLinear::tighter,
+        )
     };
-    let quadratic = |kind: BoundKind, stats: &mut RayStats| -> Option<ForwardQuadratic<T>> {
-        match kind {
-            BoundKind::BottomUp => {
-                stats.bound_evals += 1;
-                Some(field.eval(ray.at(t, e)))
-            }
-            BoundKind::Taylor => {
-                stats.bound_evals += 1;
-                field.taylor_quadratic(ray, t, e)
-            }
-            BoundKind::Mixed => {
-                stats.bound_evals += 1;
-                let b: ForwardQuadratic<T> = field.eval(ray.at(t, e));
-                Some(match field.taylor_quadratic(ray, t, e) {
-                    Some(ty) => {
-                        stats.bound_evals += 1;
-                        b.tighter(ty)
-                    }
-                    None => b,
-                })
-            }
-        }
+    let quadratic = |kind, stats: &mut RayStats| {
+        by_kind(
+            kind,
+            stats,
+            || field.eval(ray.at(t, e)),
+            || field.taylor_quadratic(ray, t, e),
+            ForwardQuadratic::tighter,
+        )
     };
     Some(match method {
         Method::Segment => {
@@ -509,49 +521,32 @@ pub(crate) fn march<T: Real, F: Field<T>>(
             w.stats.field_evals += 1;
             s = sign_of(f);
         }
-        if degenerate || (s != 0 && sign_of(b.start) == 0) {
+        // The proven root-free length when a root may lie within eps.
+        let near = if degenerate || (s != 0 && sign_of(b.start) == 0) {
             if let Some(step) = interval_step(field, ray, t, e, s, eps, &mut w.stats) {
                 prev = s;
                 t = advance(t, step);
                 win = step * params.k;
                 continue;
             }
-            match probe(field, ray, t, t1, s, prev, T::ZERO, eps, &mut w) {
-                Probe::Clear(tn) => {
-                    prev = if s != 0 { s } else { prev };
-                    t = tn;
-                    win = eps * params.k;
-                }
-                Probe::Root(tn, sn) => {
-                    prev = sn;
-                    t = tn;
-                    win = t1 - t;
-                }
-                Probe::Stop(tr) => return tr,
+            Some(T::ZERO)
+        } else {
+            match b.safe {
+                _ if s == 0 => Some(T::ZERO),
+                Some(r) if r < eps => Some(r),
+                _ => None,
             }
-            continue;
-        }
-        let near = match b.safe {
-            _ if s == 0 => Some(T::ZERO),
-            Some(r) if r < eps => Some(r),
-            _ => None,
         };
         if let Some(r) = near {
-            match probe(field, ray, t, t1, s, prev, r, eps, &mut w) {
-                Probe::Clear(tn) => {
-                    prev = if s != 0 { s } else { prev };
-                    t = tn;
-                    win = eps * params.k;
-                }
-                Probe::Root(tn, sn) => {
-                    prev = sn;
-                    t = tn;
-                    // Past a root (transparent mode) Alg. 1 starts afresh
-                    // on the rest of the span [t, t1].
-                    win = t1 - t;
-                }
-                Probe::Stop(tr) => return tr,
-            }
+            let (tn, sn, rooted) =
+                match probe(field, ray, t, t1, s, prev, r, eps, &mut w).landing(s, prev) {
+                    Ok(next) => next,
+                    Err(tr) => return tr,
+                };
+            (t, prev) = (tn, sn);
+            // Past a root (transparent mode) Alg. 1 starts afresh on the
+            // rest of the span [t, t1]; after a cleared eps it grows again.
+            win = if rooted { t1 - t } else { eps * params.k };
             continue;
         }
         let step = match b.safe {
@@ -617,16 +612,9 @@ fn sphere<T: Real, F: Field<T>>(
             round::div_down(f.mig(), lambda)
         };
         if r < eps {
-            match probe(field, ray, t, t1, s, prev, r, eps, &mut w) {
-                Probe::Clear(tn) => {
-                    prev = if s != 0 { s } else { prev };
-                    t = tn;
-                }
-                Probe::Root(tn, sn) => {
-                    prev = sn;
-                    t = tn;
-                }
-                Probe::Stop(tr) => return tr,
+            match probe(field, ray, t, t1, s, prev, r, eps, &mut w).landing(s, prev) {
+                Ok((tn, sn, _)) => (t, prev) = (tn, sn),
+                Err(tr) => return tr,
             }
             continue;
         }

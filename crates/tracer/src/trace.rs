@@ -144,8 +144,12 @@ pub fn trace<T: Real, F: Field<T>>(
         return unsupported;
     }
     match method {
-        Method::Interval => bisect::interval(field, ray, span, mode, params, roots),
-        Method::Affine => bisect::affine(field, ray, span, mode, params, roots),
+        Method::Interval => {
+            bisect::bisect::<T, F, bisect::ByInterval>(field, ray, span, mode, params, roots)
+        }
+        Method::Affine => {
+            bisect::bisect::<T, F, bisect::ByAffine>(field, ray, span, mode, params, roots)
+        }
         _ => march::march(field, ray, span, method, mode, params, roots),
     }
 }
