@@ -7,6 +7,12 @@
 //!   zeros, subnormals, huge values, anchors such as `ln MAX` and `kπ/2`),
 //!   intervals and affine forms;
 //! - [`shapes`]: analytic fields with known roots (the tracer tests);
+//! - [`interval_props`], [`affine_props`]: one containment check per
+//!   operation on given operands (also called by the fuzz targets in `fuzz/`);
+//! - [`forward`]: forward-bound checks on random expression trees (the
+//!   `forward_bounds` tests and fuzz target);
+//! - [`blobtree`]: random flat blobtrees and their property checks (the
+//!   `blobtree` tests and fuzz targets);
 //! - [`check`]: sample points of intervals and affine forms (endpoints,
 //!   interior points, non-float reals next to endpoints and zero, reals beyond
 //!   the float range in unbounded intervals, critical points of `sin`/`cos`)
@@ -15,8 +21,14 @@
 //! Not every test file uses every item.
 #![allow(dead_code)]
 
+pub mod affine_props;
+pub mod blobtree;
 pub mod check;
+pub mod forward;
+pub mod interval_props;
+pub mod kernel_cases;
 pub mod reference;
+pub mod scalis_cases;
 pub mod shapes;
 pub mod strategies;
 
