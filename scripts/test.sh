@@ -40,6 +40,14 @@ step "no_std + alloc build of boundtrace-fields and -tracer (builders, HRBF stor
 cargo build -p boundtrace-fields -p boundtrace-tracer --target thumbv7em-none-eabihf \
     --no-default-features --features libm,alloc
 
+step "fuzz targets: fmt, clippy, and replay of the committed seeds and regressions (stable)"
+cargo fmt --manifest-path fuzz/Cargo.toml -- --check
+cargo clippy --manifest-path fuzz/Cargo.toml --all-targets -- -D warnings
+cargo test --manifest-path fuzz/Cargo.toml --release
+
+step "fuzz targets: ${FUZZ_SECONDS:-20} s each under libFuzzer (installs the pinned nightly and cargo-fuzz)"
+./scripts/fuzz.sh "${FUZZ_SECONDS:-20}"
+
 step "ITF1788 conformance report"
 report=$(find "${CARGO_TARGET_DIR:-target}" -name itf1788-report.txt -path '*tmp*' 2>/dev/null | head -n 1)
 if [ -n "$report" ]; then cat "$report"; fi

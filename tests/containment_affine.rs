@@ -214,14 +214,7 @@ macro_rules! affine_suite {
 
                 #[test]
                 fn scalar_lhs(x in f(), s in float::<T>(), e in ep(), pk in picks()) {
-                    let c = A::<T, N>::constant(s);
-                    let add = |a: &r::BigFloat, b: &r::BigFloat, p| Some(r::add(a, b, p));
-                    let sub = |a: &r::BigFloat, b: &r::BigFloat, p| Some(r::sub(a, b, p));
-                    let mul = |a: &r::BigFloat, b: &r::BigFloat, p| Some(r::mul(a, b, p));
-                    affine_binary("s + x", &c, &x, &(s + x), &e, &pk, add)?;
-                    affine_binary("s - x", &c, &x, &(s - x), &e, &pk, sub)?;
-                    affine_binary("s * x", &c, &x, &(s * x), &e, &pk, mul)?;
-                    affine_binary("s / x", &c, &x, &(s / x), &e, &pk, r::div)?;
+                    prop_scalar_lhs(x, s, &e, &pk)?;
                 }
 
                 #[test]

@@ -210,11 +210,7 @@ macro_rules! interval_suite {
 
                 #[test]
                 fn scalar_lhs(x in interval::<T>(), s in float::<T>(), pk in picks()) {
-                    let y = I::point(s);
-                    binary("s + x", y, x, s + x, &pk, |a, b, p| Some(r::add(a, b, p)))?;
-                    binary("s - x", y, x, s - x, &pk, |a, b, p| Some(r::sub(a, b, p)))?;
-                    binary("s * x", y, x, s * x, &pk, |a, b, p| Some(r::mul(a, b, p)))?;
-                    binary("s / x", y, x, s / x, &pk, r::div)?;
+                    prop_scalar_lhs(x, s, &pk)?;
                 }
 
                 #[test]

@@ -5,7 +5,7 @@
 
 mod common;
 
-use boundtrace::fields::homothetic::{HomotheticPrimitive, Segment, SegmentKernel};
+use boundtrace::fields::homothetic::{Segment, SegmentKernel};
 use boundtrace::fields::scalis::ScalisSegment;
 use boundtrace::inclusion::{Field, Ray, gradient};
 use proptest::prelude::*;
@@ -558,11 +558,7 @@ proptest! {
     /// contain the field at sampled points of the ray interval.
     #[test]
     fn bounds_contain_the_field(c in case()) {
-        if c.segs.len() == 1 {
-            if let Some(sk) = build::<1>(&c) { check(&c, &sk)? }
-        } else if let Some(sk) = build::<2>(&c) {
-            check(&c, &sk)?
-        }
+        check_case(&c)?;
     }
 }
 
@@ -660,11 +656,6 @@ proptest! {
     /// contain the field at sampled ray points.
     #[test]
     fn homothetic_bounds_contain_the_field(c in hcase()) {
-        let ((a, ra), (b, rb)) = c.seg;
-        let Ok(seg) = Segment::new(a, ra, b, rb) else { return Ok(()) };
-        if c.ray.speed() <= 1e-3 || c.ray.speed().is_nan() { return Ok(()) }
-        let prim = HomotheticPrimitive::new(seg, c.kernel).unwrap();
-        check_field(&prim, &c.ray, c.t0, c.h, &c.taus)?;
-        check_field(&seg, &c.ray, c.t0, c.h, &c.taus)?;
+        check_homothetic(&c)?;
     }
 }

@@ -220,6 +220,25 @@ pub fn prop_scalar_rhs<T: Flt, const N: usize>(
     affine_binary("x / s", &x, &c, &(x / s), eps, pk, r::div)
 }
 
+/// `s + x`, `s − x`, `s · x`, `s / x` with a scalar left operand.
+pub fn prop_scalar_lhs<T, const N: usize>(x: A<T, N>, s: T, eps: &[[T; N]; 3], pk: &Picks) -> Res
+where
+    T: Flt
+        + std::ops::Add<A<T, N>, Output = A<T, N>>
+        + std::ops::Sub<A<T, N>, Output = A<T, N>>
+        + std::ops::Mul<A<T, N>, Output = A<T, N>>
+        + std::ops::Div<A<T, N>, Output = A<T, N>>,
+{
+    let c = A::<T, N>::constant(s);
+    let add = |a: &r::BigFloat, b: &r::BigFloat, p| Some(r::add(a, b, p));
+    let sub = |a: &r::BigFloat, b: &r::BigFloat, p| Some(r::sub(a, b, p));
+    let mul = |a: &r::BigFloat, b: &r::BigFloat, p| Some(r::mul(a, b, p));
+    affine_binary("s + x", &c, &x, &(s + x), eps, pk, add)?;
+    affine_binary("s - x", &c, &x, &(s - x), eps, pk, sub)?;
+    affine_binary("s * x", &c, &x, &(s * x), eps, pk, mul)?;
+    affine_binary("s / x", &c, &x, &(s / x), eps, pk, r::div)
+}
+
 pub fn prop_sqr<T: Flt, const N: usize>(x: A<T, N>, eps: &[[T; N]; 3], pk: &Picks) -> Res {
     affine_unary("sqr", &x, &x.sqr(), eps, pk, |v, p| Some(r::sqr(v, p)))
 }

@@ -60,20 +60,20 @@ impl Rng {
         z ^ (z >> 31)
     }
     /// Uniform in `[0, 1)`.
-    fn unit(&mut self) -> f64 {
+    pub fn unit(&mut self) -> f64 {
         (self.next() >> 11) as f64 / (1u64 << 53) as f64
     }
-    fn range(&mut self, a: f64, b: f64) -> f64 {
+    pub fn range(&mut self, a: f64, b: f64) -> f64 {
         a + (b - a) * self.unit()
     }
-    fn below(&mut self, n: usize) -> usize {
+    pub fn below(&mut self, n: usize) -> usize {
         (self.next() % n as u64) as usize
     }
     /// Rounded to f32 so that f32 round trips are exact.
-    fn f(&mut self, a: f64, b: f64) -> f64 {
+    pub fn f(&mut self, a: f64, b: f64) -> f64 {
         self.range(a, b) as f32 as f64
     }
-    fn point(&mut self, half: f64) -> [f64; 3] {
+    pub fn point(&mut self, half: f64) -> [f64; 3] {
         [
             self.f(-half, half),
             self.f(-half, half),

@@ -219,6 +219,22 @@ pub fn prop_scalar_rhs<T: Flt>(x: Interval<T>, s: T, pk: &Picks) -> Res {
     binary("x / s", x, y, x / s, pk, r::div)
 }
 
+/// `s + x`, `s − x`, `s · x`, `s / x` with a scalar left operand.
+pub fn prop_scalar_lhs<T>(x: Interval<T>, s: T, pk: &Picks) -> Res
+where
+    T: Flt
+        + std::ops::Add<Interval<T>, Output = Interval<T>>
+        + std::ops::Sub<Interval<T>, Output = Interval<T>>
+        + std::ops::Mul<Interval<T>, Output = Interval<T>>
+        + std::ops::Div<Interval<T>, Output = Interval<T>>,
+{
+    let y = Interval::point(s);
+    binary("s + x", y, x, s + x, pk, |a, b, p| Some(r::add(a, b, p)))?;
+    binary("s - x", y, x, s - x, pk, |a, b, p| Some(r::sub(a, b, p)))?;
+    binary("s * x", y, x, s * x, pk, |a, b, p| Some(r::mul(a, b, p)))?;
+    binary("s / x", y, x, s / x, pk, r::div)
+}
+
 pub fn prop_recip<T: Flt>(x: Interval<T>, pk: &Picks) -> Res {
     unary("recip", x, x.recip(), pk, PLAIN, r::recip)
 }

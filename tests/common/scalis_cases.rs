@@ -2,7 +2,7 @@
 //! bound kind on them, shared by the `fields_scalis` property tests and the
 //! `field_bounds` fuzz target (`fuzz/`).
 
-use boundtrace::fields::homothetic::{Segment, SegmentKernel};
+use boundtrace::fields::homothetic::{HomotheticPrimitive, Segment, SegmentKernel};
 use boundtrace::fields::scalis::{Normalized, ScalisSegment, ScalisSkeleton};
 use boundtrace::ia_core::{Affine, Interval};
 use boundtrace::inclusion::{BoundKind, Field, ForwardLinear, Ray, linear_bound, quadratic_bound};
@@ -215,4 +215,32 @@ pub fn check_field<F: Field<f64>>(
         }
     }
     Ok(())
+}
+
+/// Every bound kind of the case's skeleton (1 or 2 segments) contains the
+/// field (cases with invalid segments pass vacuously).
+pub fn check_case(c: &Case) -> Result<(), TestCaseError> {
+    if c.segs.len() == 1 {
+        if let Some(sk) = build::<1>(c) {
+            check(c, &sk)?
+        }
+    } else if let Some(sk) = build::<2>(c) {
+        check(c, &sk)?
+    }
+    Ok(())
+}
+
+/// `k ∘ h_S` and `h_S − 1` (homothetic primitives): every bound kind
+/// contains the field.
+pub fn check_homothetic(c: &HCase) -> Result<(), TestCaseError> {
+    let ((a, ra), (b, rb)) = c.seg;
+    let Ok(seg) = Segment::new(a, ra, b, rb) else {
+        return Ok(());
+    };
+    if c.ray.speed() <= 1e-3 || c.ray.speed().is_nan() {
+        return Ok(());
+    }
+    let prim = HomotheticPrimitive::new(seg, c.kernel).unwrap();
+    check_field(&prim, &c.ray, c.t0, c.h, &c.taus)?;
+    check_field(&seg, &c.ray, c.t0, c.h, &c.taus)
 }
