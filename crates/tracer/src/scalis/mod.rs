@@ -17,9 +17,10 @@
 //! - **`scalis-quadratic`** (Alg. 1 and 2, made sound): the region is
 //!   pre-segmented at the argmins of the primitives' homothetic distances
 //!   (§1.3.2) and each interval is processed left to right. A sum of
-//!   per-primitive sound ranges ([`ScalisSegment::density_range`], ch. 2
-//!   §2.1, evaluated only for the primitives whose support meets the
-//!   interval) that excludes the iso-value proves the interval root-free;
+//!   per-primitive sound ranges (ch. 2 §2.1, by skeleton cells:
+//!   [`bounds::density_bounds`], evaluated only for the primitives whose
+//!   support meets the interval) that excludes the iso-value proves the
+//!   interval root-free;
 //!   otherwise the interval is split where the oracle of §1.4 predicts the
 //!   root: the first root of the smooth piecewise-quadratic Bézier
 //!   interpolant (eq. 1.10) of the Hermite data of the **normalized field**
@@ -50,6 +51,7 @@
 //! `eps / 2^TOUCH_DEPTH` whose range contains `0` without a sign change is
 //! a [`Side::Touch`].
 
+pub mod bounds;
 pub mod list;
 
 #[cfg(feature = "alloc")]
@@ -66,6 +68,13 @@ use boundtrace_inclusion::{Field, FieldNum, Jet, Ray};
 /// Intervals shorter than this many `eps` with a sign change are split by
 /// the polynomial interpolant in the `interval` method (refinement).
 pub const REFINE_EPS: f64 = 1024.0;
+
+/// Skeleton cells per primitive of the first range of an interval.
+pub const CELLS: u32 = 16;
+
+/// Skeleton cells per primitive of the second range, when the first one
+/// cannot decide.
+pub const FINE_CELLS: u32 = 64;
 
 /// The depth of the explicit interval stack of the pre-segmented
 /// processing (intervals that cannot be split further are leaves).
@@ -269,25 +278,35 @@ impl<T: Real> Ctx<'_, T> {
         (g.v - T::ONE, g.d1)
     }
 
-    /// A sound enclosure of `iso − f` on `[a, b]`: the sum of the
-    /// per-primitive ranges of the hits whose support meets it (each on the
-    /// part of `[a, b]` inside `[entry, exit]`, joined with `0` when that is
-    /// only a part).
-    fn range(&self, hits: &[PrimitiveHit<T>], a: T, b: T) -> Interval<T> {
-        let mut acc = Interval::point(T::ZERO);
+    /// A sound enclosure of `iso − f` on `[a, b]`: the sum over the hits
+    /// whose support meets it of their per-primitive ranges by skeleton
+    /// cells ([`bounds::density_bounds`] on the part of `[a, b]` inside the
+    /// hit's `[entry, exit]`, joined with `0` when that is only a part;
+    /// [`CELLS`] cells, then [`FINE_CELLS`] when the first sum cannot
+    /// decide). `stats` counts one bound evaluation per sum.
+    fn range(&self, hits: &[PrimitiveHit<T>], a: T, b: T, stats: &mut RayStats) -> Interval<T> {
         let zero = Interval::point(T::ZERO);
-        for h in hits {
-            if h.entry > b {
+        let mut r = Interval::ENTIRE;
+        for cells in [CELLS, FINE_CELLS] {
+            stats.bound_evals += 1;
+            let mut acc = zero;
+            for h in hits {
+                if h.entry > b {
+                    break;
+                }
+                if h.exit < a {
+                    continue;
+                }
+                let (u, v) = (a.max(h.entry), b.min(h.exit));
+                let d = bounds::density_bounds(self.seg(h), self.ray, u, v, cells);
+                acc = acc + if u > a || v < b { d.hull(zero) } else { d };
+            }
+            r = Interval::point(self.iso) - acc;
+            if !r.contains(T::ZERO) {
                 break;
             }
-            if h.exit < a {
-                continue;
-            }
-            let (u, v) = (a.max(h.entry), b.min(h.exit));
-            let r = self.seg(h).density_range(self.ray, u, v);
-            acc = acc + if u > a || v < b { r.hull(zero) } else { r };
         }
-        Interval::point(self.iso) - acc
+        r
     }
 }
 
@@ -431,8 +450,7 @@ fn process_region<T: Real>(
                 (false, true) => Side::Entering,
                 (true, false) => Side::Leaving,
                 _ => {
-                    let r = ctx.range(hits, a.t, b.t);
-                    w.stats.bound_evals += 1;
+                    let r = ctx.range(hits, a.t, b.t, &mut w.stats);
                     if !r.contains(T::ZERO) {
                         continue;
                     }
@@ -465,8 +483,7 @@ fn process_region<T: Real>(
             }
             continue;
         }
-        let r = ctx.range(hits, a.t, b.t);
-        w.stats.bound_evals += 1;
+        let r = ctx.range(hits, a.t, b.t, &mut w.stats);
         if !r.contains(T::ZERO) {
             continue;
         }
@@ -494,35 +511,35 @@ fn process_region<T: Real>(
         } else {
             None
         };
-        match guess {
-            Some(g) if g - delta > a.t && g + delta < b.t => {
-                let (u, v) = (round::sub_down(g, delta), round::add_down(g, delta));
-                if u > a.t && v < b.t && u < v {
-                    let (pu, pv) = (point(u, w), point(v, w));
-                    stack[sp] = (pv, b);
-                    stack[sp + 1] = (pu, pv);
-                    stack[sp + 2] = (a, pu);
-                    sp += 3;
-                    continue;
+        // split at t_root ± δ (both, one or none of them inside), else at
+        // the midpoint
+        let mut cuts = [mid; 2];
+        let mut nc = 1;
+        if let Some(g) = guess.filter(|&g| g > a.t && g < b.t) {
+            let (u, v) = (round::sub_down(g, delta), round::add_down(g, delta));
+            nc = 0;
+            for c in [u, v] {
+                if c > a.t && c < b.t && (nc == 0 || c > cuts[0]) {
+                    cuts[nc] = c;
+                    nc += 1;
                 }
-                let m = point(g, w);
-                stack[sp] = (m, b);
-                stack[sp + 1] = (a, m);
-                sp += 2;
             }
-            Some(g) if g > a.t && g < b.t => {
-                let m = point(g, w);
-                stack[sp] = (m, b);
-                stack[sp + 1] = (a, m);
-                sp += 2;
-            }
-            _ => {
-                let m = point(mid, w);
-                stack[sp] = (m, b);
-                stack[sp + 1] = (a, m);
-                sp += 2;
+            if nc == 0 {
+                cuts[0] = g;
+                nc = 1;
             }
         }
+        let mut right = b;
+        let mut k = nc;
+        while k > 0 {
+            k -= 1;
+            let p = point(cuts[k], w);
+            stack[sp] = (p, right);
+            sp += 1;
+            right = p;
+        }
+        stack[sp] = (a, right);
+        sp += 1;
     }
 }
 
