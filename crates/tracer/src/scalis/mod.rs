@@ -76,6 +76,13 @@ pub const CELLS: u32 = 16;
 /// cannot decide.
 pub const FINE_CELLS: u32 = 64;
 
+/// Ray intervals shorter than this fraction of a primitive's smallest
+/// radius also get the closed form's range
+/// ([`ScalisSegment::density_range`]: end-point values and monotony from
+/// its derivative enclosure), costly but tight on short intervals, where
+/// the cell sums are not (their error does not shrink with the interval).
+pub const CLOSED_FORM_WIDTH: f64 = 1.0;
+
 /// The depth of the explicit interval stack of the pre-segmented
 /// processing (intervals that cannot be split further are leaves).
 pub const STACK_CAPACITY: usize = 64;
@@ -283,11 +290,14 @@ impl<T: Real> Ctx<'_, T> {
     /// cells ([`bounds::density_bounds`] on the part of `[a, b]` inside the
     /// hit's `[entry, exit]`, joined with `0` when that is only a part;
     /// [`CELLS`] cells, then [`FINE_CELLS`] when the first sum cannot
-    /// decide). `stats` counts one bound evaluation per sum.
+    /// decide, then intersected with the closed form's range on short
+    /// intervals, [`CLOSED_FORM_WIDTH`]). `stats` counts one bound
+    /// evaluation per stage.
     fn range(&self, hits: &[PrimitiveHit<T>], a: T, b: T, stats: &mut RayStats) -> Interval<T> {
         let zero = Interval::point(T::ZERO);
         let mut r = Interval::ENTIRE;
-        for cells in [CELLS, FINE_CELLS] {
+        let mut stage = 0;
+        while stage < 3 {
             stats.bound_evals += 1;
             let mut acc = zero;
             for h in hits {
@@ -298,13 +308,27 @@ impl<T: Real> Ctx<'_, T> {
                     continue;
                 }
                 let (u, v) = (a.max(h.entry), b.min(h.exit));
-                let d = bounds::density_bounds(self.seg(h), self.ray, u, v, cells);
+                let s = self.seg(h);
+                let cells = if stage == 0 { CELLS } else { FINE_CELLS };
+                let mut d = bounds::density_bounds(s, self.ray, u, v, cells);
+                if stage == 2 {
+                    let sk = s.segment();
+                    let short = (Interval::point(v) - Interval::point(u)).hi() * self.ray.speed()
+                        <= sk.ra().min(sk.rb()) * T::from_f64(CLOSED_FORM_WIDTH);
+                    if short {
+                        let c = s.density_range(self.ray, u, v).intersection(d);
+                        if !c.is_empty() {
+                            d = c;
+                        }
+                    }
+                }
                 acc = acc + if u > a || v < b { d.hull(zero) } else { d };
             }
             r = Interval::point(self.iso) - acc;
             if !r.contains(T::ZERO) {
                 break;
             }
+            stage += 1;
         }
         r
     }
