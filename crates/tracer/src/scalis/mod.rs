@@ -719,3 +719,194 @@ fn sphere_per_ray<T: Real, S: AsRef<[ScalisSegment<T>]>>(
         stats,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use boundtrace_fields::homothetic::{Segment, SegmentKernel};
+
+    const NONE: Root<f64> = Root {
+        t: f64::NAN,
+        side: Side::Touch,
+    };
+
+    fn skeleton() -> ScalisSkeleton<f64, [ScalisSegment<f64>; 3]> {
+        let k = SegmentKernel::compact_polynomial(6, 2.0).unwrap();
+        let mk = |a: [f64; 3], b: [f64; 3], ra: f64, rb: f64| {
+            ScalisSegment::new(Segment::new(a, ra, b, rb).unwrap(), k, 1.0).unwrap()
+        };
+        ScalisSkeleton::new([
+            mk([0.0, -1.0, 0.0], [0.0, 1.0, 0.0], 0.1, 0.15),
+            mk([0.0, 1.0, 0.0], [1.0, 1.5, 0.0], 0.15, 0.1),
+            mk([2.0, -1.0, 0.0], [2.0, 1.0, 0.3], 0.08, 0.08),
+        ])
+        .unwrap()
+    }
+
+    /// Roots by dense sampling of the sign (for rays crossing cleanly).
+    fn sampled_roots(sk: &impl Field<f64>, ray: &Ray<f64>, span: [f64; 2]) -> Vec<(f64, Side)> {
+        let n = 200_000;
+        let mut out = Vec::new();
+        let f = |t: f64| -> f64 { sk.eval(ray.at::<f64>(t, t)) };
+        let mut prev = f(span[0]);
+        for i in 1..=n {
+            let t = span[0] + (span[1] - span[0]) * f64::from(i) / f64::from(n);
+            let v = f(t);
+            if prev > 0.0 && v <= 0.0 {
+                out.push((t, Side::Entering));
+            } else if prev <= 0.0 && v > 0.0 {
+                out.push((t, Side::Leaving));
+            }
+            prev = v;
+        }
+        out
+    }
+
+    #[test]
+    fn every_scalis_method_finds_every_root() {
+        let sk = skeleton();
+        let params = Params::new();
+        let span = [0.0, 6.0];
+        for (o, d) in [
+            ([-2.0, 0.05, 0.02], [1.0, 0.0, 0.0]),
+            ([-2.0, 0.9, 0.01], [1.0, 0.1, 0.0]),
+            ([-2.0, -0.5, 0.1], [1.0, 0.02, 0.0]),
+        ] {
+            let ray = Ray::new(o, d);
+            let expect = sampled_roots(&sk, &ray, span);
+            assert!(expect.len() >= 2, "{expect:?}");
+            let mut store = [PrimitiveHit::empty(); 8];
+            let list = RayPrimitives::build(sk.segments(), &ray, span, &mut store);
+            assert!(!list.overflowed());
+            for method in [Method::ScalisQuadratic, Method::Interval, Method::Sphere] {
+                let mut buf = [NONE; 16];
+                let tr = trace_scalis(
+                    &sk,
+                    list.hits(),
+                    &ray,
+                    span,
+                    method,
+                    Mode::Transparent,
+                    &params,
+                    &mut buf,
+                );
+                assert_eq!(tr.status, Status::Finished, "{method}");
+                let got = &buf[..tr.roots as usize];
+                assert_eq!(got.len(), expect.len(), "{method}: {got:?} vs {expect:?}");
+                for (g, e) in got.iter().zip(&expect) {
+                    assert!(
+                        (g.t - e.0).abs() <= 2.0 * params.eps,
+                        "{method}: {g:?} vs {e:?}"
+                    );
+                    assert_eq!(g.side, e.1, "{method}");
+                }
+                let mut one = [NONE; 1];
+                let tr = trace_scalis(
+                    &sk,
+                    list.hits(),
+                    &ray,
+                    span,
+                    method,
+                    Mode::Opaque,
+                    &params,
+                    &mut one,
+                );
+                assert_eq!((tr.status, tr.roots), (Status::Finished, 1), "{method}");
+                assert!(
+                    (one[0].t - expect[0].0).abs() <= 2.0 * params.eps,
+                    "{method}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn empty_space_costs_nothing_and_misses_are_misses() {
+        let sk = skeleton();
+        let params = Params::new();
+        let ray = Ray::new([-2.0, 5.0, 0.0], [1.0, 0.0, 0.0]);
+        let mut buf = [NONE; 4];
+        let mut store = [PrimitiveHit::empty(); 8];
+        let tr = trace_scalis_ray(
+            &sk,
+            &ray,
+            [0.0, 6.0],
+            Method::ScalisQuadratic,
+            Mode::Opaque,
+            &params,
+            &mut buf,
+            &mut store,
+        );
+        assert_eq!((tr.status, tr.roots), (Status::Finished, 0));
+        assert_eq!(tr.stats, RayStats::default());
+    }
+
+    #[test]
+    fn overflow_falls_back_and_generic_trace_is_unsupported() {
+        let sk = skeleton();
+        let params = Params::new();
+        let ray = Ray::new([-2.0, 0.05, 0.02], [1.0, 0.0, 0.0]);
+        let mut store = [PrimitiveHit::empty(); 1];
+        let mut a = [NONE; 1];
+        let tr = trace_scalis_ray(
+            &sk,
+            &ray,
+            [0.0, 6.0],
+            Method::ScalisQuadratic,
+            Mode::Opaque,
+            &params,
+            &mut a,
+            &mut store,
+        );
+        assert_eq!((tr.status, tr.roots), (Status::Finished, 1));
+        let mut b = [NONE; 1];
+        let seg = trace(
+            &sk,
+            &ray,
+            [0.0, 6.0],
+            Method::Segment,
+            Mode::Opaque,
+            &params,
+            &mut b,
+        );
+        assert_eq!((a[0].t, tr.stats), (b[0].t, seg.stats));
+        let tr = trace(
+            &sk,
+            &ray,
+            [0.0, 6.0],
+            Method::ScalisQuadratic,
+            Mode::Opaque,
+            &params,
+            &mut b,
+        );
+        assert_eq!(tr.status, Status::Unsupported);
+        let bad = Params { eps: 0.0, ..params };
+        let tr = trace_scalis(
+            &sk,
+            &[],
+            &ray,
+            [0.0, 6.0],
+            Method::ScalisQuadratic,
+            Mode::Opaque,
+            &bad,
+            &mut b,
+        );
+        assert_eq!(tr.status, Status::Unsupported);
+    }
+
+    #[test]
+    fn oracle_predicts_the_root_of_a_parabola() {
+        // G(t) = (t − 1)² − 0.25 on [0, 1]: the interpolant is exact, the
+        // first root is t = 0.5
+        let (ga, da, gb, db) = (0.75, -2.0, -0.25, 0.0);
+        let t = oracle(0.0, 1.0, ga, da, gb, db, 1.0).unwrap();
+        assert!((t - 0.5).abs() < 1e-12, "{t}");
+        // a weight > 1 pulls the curve toward its control polygon: a dip
+        // that the polynomial misses is found by the rational oracle
+        let (ga, da, gb, db) = (0.1, -0.6, 0.3, 0.0);
+        assert!(oracle(0.0, 1.0, ga, da, gb, db, 1.0).is_none());
+        assert!(oracle(0.0, 1.0, ga, da, gb, db, 3.0).is_some());
+        assert_eq!(first_unit_root(1.0, 0.0, 1.0), None);
+        assert_eq!(first_unit_root(-1.0, 2.0, 0.0), Some(0.5));
+    }
+}
