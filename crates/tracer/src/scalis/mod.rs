@@ -723,6 +723,8 @@ fn sphere_per_ray<T: Real, S: AsRef<[ScalisSegment<T>]>>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    extern crate alloc;
+    use alloc::vec::Vec;
     use boundtrace_fields::homothetic::{Segment, SegmentKernel};
 
     const NONE: Root<f64> = Root {
