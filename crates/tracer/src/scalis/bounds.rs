@@ -149,9 +149,22 @@ pub fn density_bounds<T: Real>(
         SegmentKernel::Cauchy { .. } => return unknown,
     };
     let inv_s2 = T::ONE / (sigma * sigma);
-    // k(h²) = (1 − h²/σ²)^m, 0 beyond σ (decreasing in h²)
-    let k = |h2: T| {
-        let x = T::ONE - h2 * inv_s2;
+    // k(h²) = (1 − h²/σ²)^m, 0 beyond σ (decreasing in h²). The base
+    // `1 − h²/σ²` cancels near the support's edge: it is moved outward by
+    // an absolute 8ε (it is ≤ 1 and `h`, `h²/σ²` carry a few ulps), so
+    // that the relative widening below only has to cover the power and the
+    // products.
+    let slack_x = T::EPSILON * T::from_f64(8.0);
+    let k_up = |h2: T| {
+        let x = T::ONE - h2 * inv_s2 + slack_x;
+        if x > T::ZERO {
+            x.min(T::ONE).powi(m)
+        } else {
+            T::ZERO
+        }
+    };
+    let k_dn = |h2: T| {
+        let x = T::ONE - h2 * inv_s2 - slack_x;
         if x > T::ZERO { x.powi(m) } else { T::ZERO }
     };
     let n = T::from_f64(f64::from(cells));
@@ -176,15 +189,15 @@ pub fn density_bounds<T: Real>(
         let dmin = (segment_distance(p0, p1, q0, q1) - slack).max(T::ZERO);
         let ds = s1 - s0 + slack;
         let hmin = dmin / tmax;
-        if hmin < sigma {
-            hi = hi + ds * k(hmin * hmin) / tmin;
+        if hmin * (T::ONE - slack_x) < sigma {
+            hi = hi + ds * k_up(hmin * hmin) / tmin;
             let dmax = dist(p0, q0)
                 .max(dist(p0, q1))
                 .max(dist(p1, q0))
                 .max(dist(p1, q1))
                 + slack;
             let hmax = dmax / tmin;
-            lo = lo + (s1 - s0 - slack).max(T::ZERO) * k(hmax * hmax) / tmax;
+            lo = lo + (s1 - s0 - slack).max(T::ZERO) * k_dn(hmax * hmax) / tmax;
         }
         s0 = s1;
         q0 = q1;
