@@ -15,7 +15,7 @@
 //! exit with code 1.
 
 use boundtrace::tracer::camera::Camera;
-use boundtrace::tracer::render::{RenderSettings, render};
+use boundtrace::tracer::render::{RenderSettings, render_scene};
 use boundtrace::tracer::scenes::{DEFAULT_SEED, NAMES, Scene};
 use boundtrace::tracer::{Method, Mode};
 use std::path::PathBuf;
@@ -118,7 +118,7 @@ fn run(args: &Args) -> Result<(), String> {
         .map_err(|e| e.to_string())?
         .with_mode(args.mode);
     let start = Instant::now();
-    let frame = render(scene.field(), &camera, bounds, &settings).map_err(|e| e.to_string())?;
+    let frame = render_scene(&scene, &camera, &settings).map_err(|e| e.to_string())?;
     let elapsed = start.elapsed();
     std::fs::create_dir_all(&args.out)
         .map_err(|e| format!("creating {}: {e}", args.out.display()))?;

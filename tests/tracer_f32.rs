@@ -16,7 +16,11 @@ fn f32_tracing_agrees_with_f64_on_blobs() {
     let p64 = Params::<f64>::new();
     let p32 = Params::<f32>::new().with_eps(1e-3).unwrap();
     let tol = 1e-3 + 1e-4 + 1e-6;
-    for m in Method::ALL {
+    // `scalis-quadratic` needs a SCALIS skeleton (`tracer::scalis`)
+    for m in Method::ALL
+        .into_iter()
+        .filter(|&m| m != Method::ScalisQuadratic)
+    {
         let mut hits = 0;
         for (i, r) in rays.rays().iter().enumerate() {
             let (h64, t64) = first_root(s64.field(), &r.ray, r.span, m, &p64);

@@ -545,8 +545,12 @@ fn ball_renders_match_the_analytic_intersections() {
                 .with_max_roots(64)
                 .unwrap();
             let frame = render(&BALL, &cam, bounds, &s).unwrap();
-            if matches!(method, Method::LinearTaylor | Method::QuadraticTaylor) {
-                // the ball has no Taylor bound: nothing is traced
+            if matches!(
+                method,
+                Method::LinearTaylor | Method::QuadraticTaylor | Method::ScalisQuadratic
+            ) {
+                // the ball has no Taylor bound and is no SCALIS skeleton:
+                // nothing is traced
                 let t = frame.totals();
                 assert_eq!(t.unsupported, t.box_rays, "{method}");
                 assert_eq!(t.roots, 0);
@@ -636,4 +640,49 @@ fn parallel_rendering_is_bit_identical() {
             assert_eq!(par.totals(), ser.totals());
         }
     }
+}
+
+/// `render_scene` dispatches `scalis-quadratic` (and the per-ray Lipschitz
+/// `sphere`) on a SCALIS scene through `boundtrace::tracer::scalis`; the
+/// generic `render` cannot trace it. Their images agree with segment
+/// tracing pixel by pixel (hit or miss, depth within 2 eps).
+#[test]
+fn render_scene_traces_scalis_methods() {
+    use boundtrace::tracer::render::render_scene;
+    use boundtrace::tracer::scenes::Scene;
+    let scene = Scene::<f64>::build("scalis-random", 2023).unwrap();
+    let camera = Camera::framing(scene.bounds(), [-0.5, -0.6, -1.0], 35.0, 1.0).unwrap();
+    let frame = |m: Method| {
+        let s = RenderSettings::new(20, 20, m).unwrap();
+        render_scene(&scene, &camera, &s).unwrap()
+    };
+    let seg = frame(Method::Segment);
+    let generic = render(
+        scene.field(),
+        &camera,
+        scene.bounds(),
+        &RenderSettings::new(20, 20, Method::ScalisQuadratic).unwrap(),
+    )
+    .unwrap();
+    assert!(generic.totals().count(Status::Unsupported) > 0);
+    assert_eq!(generic.totals().count(Status::Finished), 0);
+    let eps = Params::<f64>::new().eps;
+    let mut hits = 0;
+    for m in [Method::ScalisQuadratic, Method::Sphere] {
+        let f = frame(m);
+        assert_eq!(f.totals().count(Status::Unsupported), 0, "{m}");
+        for y in 0..20 {
+            for x in 0..20 {
+                match (f.depth(x, y), seg.depth(x, y)) {
+                    (Some(a), Some(b)) => {
+                        assert!((a - b).abs() <= 2.0 * eps, "{m} ({x}, {y}): {a} vs {b}");
+                        hits += 1;
+                    }
+                    (None, None) => {}
+                    (a, b) => panic!("{m} ({x}, {y}): {a:?} vs segment {b:?}"),
+                }
+            }
+        }
+    }
+    assert!(hits > 10, "{hits}");
 }

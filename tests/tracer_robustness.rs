@@ -8,8 +8,11 @@
 //! - every method agrees with the reference on ≥ 99.99% of the traced
 //!   rays (with fewer than 10,000 rays: on every ray);
 //! - `sphere` is traced exactly where the field has a global Lipschitz
-//!   bound and `*-taylor` exactly where it has Taylor bounds; elsewhere
-//!   every ray is `Unsupported`.
+//!   bound, `*-taylor` exactly where it has Taylor bounds and
+//!   `scalis-quadratic` exactly on the SCALIS scenes; elsewhere every ray is
+//!   `Unsupported`. On SCALIS scenes, `scalis-quadratic`, `sphere` (per-ray
+//!   Lipschitz) and `interval` (per-primitive ranges) run through
+//!   `boundtrace::tracer::scalis` (issue 7).
 //!
 //! Failures list the scene, method, mode and the first disagreeing rays
 //! (index, origin, direction, roots of the method and of the reference,
@@ -18,7 +21,7 @@
 //! ≥ 10,000 rays and the 99.99% criterion is not just "every ray").
 
 use boundtrace::inclusion::Field;
-use boundtrace::tracer::scenes::{DEFAULT_SEED, NAMES, Scene};
+use boundtrace::tracer::scenes::{DEFAULT_SEED, NAMES, Scene, SceneField};
 use boundtrace::tracer::stats::{
     MethodStats, RaySet, ReferenceParams, enlarged, run_scene_method, scene_reference,
 };
@@ -35,23 +38,11 @@ const MIN_AGREE: f64 = 0.9999;
 /// *give up* (`Status::MaxSteps` at the default 10,000 steps) — and do
 /// nothing else wrong: no spurious or far root, never a step past a root.
 /// Each is reported in BENCHMARKS.md with its cause.
-const MAY_GIVE_UP: &[(Method, &str, &str)] = &[
-    (
-        Method::Sphere,
-        "scalis-",
-        "the global Lipschitz bound of a SCALIS skeleton (1,500–39,000, gradients grow as \
-         1/radius) makes every step shorter than eps; the per-ray bound of thesis §1.7 is \
-         issue 7's",
-    ),
-    (
-        Method::Interval,
-        "scalis-",
-        "the interval enclosures of the SCALIS closed forms do not shrink with the interval \
-         (width ≈ 0.25 on intervals of length 1e-4 near the tree's surface), so bisection needs \
-         tens of thousands of steps there; the per-primitive interval bounds of thesis ch. 2 are \
-         issue 7's",
-    ),
-];
+///
+/// Empty since issue 7: `sphere` on SCALIS skeletons now uses the per-ray
+/// Lipschitz bounds of thesis §1.7 and `interval` the per-primitive ranges
+/// of ch. 2 (`boundtrace::tracer::scalis`), and both finish.
+const MAY_GIVE_UP: &[(Method, &str, &str)] = &[];
 
 /// The reason `method` may give up on `scene`, if it may.
 fn may_give_up(method: Method, scene: &str) -> Option<&'static str> {
@@ -95,6 +86,8 @@ fn problems(scene: &Scene<f64>, s: &MethodStats, rays: &RaySet<f64>) -> Option<S
                     .taylor_quadratic(&r.ray, r.span[0], r.span[1])
                     .is_none()
             }),
+            // needs a SCALIS skeleton (`scalis::trace_scalis`)
+            Method::ScalisQuadratic => !matches!(field, SceneField::Scalis(_)),
             _ => false,
         };
         return (!lacks).then(|| format!("{head}: Unsupported although the field supports it"));

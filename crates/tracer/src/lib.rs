@@ -34,6 +34,8 @@
 //! | [`trace`](mod@trace) | [`trace`](fn@trace), [`first_root`], [`Root`], [`RayStats`], [`normal`] | forward-inclusion paper Alg. 1 |
 //! | [`march`] | sphere, segment, forward linear and quadratic marching | Hart 1996; Galin et al. 2020; forward-inclusion paper §4–6 |
 //! | [`bisect`] | interval and revised-affine bisection with a fixed stack | Mitchell 1990; Fryazinov et al. 2010 |
+//! | [`scalis`] | per-ray primitive lists, `scalis-quadratic`, per-ray Lipschitz sphere tracing, per-primitive interval bisection of SCALIS skeletons | thesis Part III ch. 1–2 |
+//! | `slice` (`std`) | inside/outside slice stacks of SCALIS skeletons from all roots along `z` | thesis Part III ch. 2 §2.2 |
 //! | [`camera`] | perspective look-at and orthographic cameras | — |
 //! | `image`, `render` (`alloc`/`std`) | depth, normal, shaded and steps-heatmap images, PNG; (parallel) rendering | forward-inclusion paper Fig. 10 |
 //! | `scenes` (`std`) | the standard procedural scenes of the papers | forward-inclusion paper §7; thesis Part III; synchronized-tracing paper Fig. 16 |
@@ -65,8 +67,11 @@ pub mod march;
 pub mod method;
 #[cfg(feature = "std")]
 pub mod render;
+pub mod scalis;
 #[cfg(feature = "std")]
 pub mod scenes;
+#[cfg(feature = "std")]
+pub mod slice;
 #[cfg(feature = "std")]
 pub mod stats;
 pub mod trace;

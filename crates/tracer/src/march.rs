@@ -429,7 +429,9 @@ fn window_bound<T: Real, F: Field<T>>(
             StepBound::from_quadratic(quadratic(BoundKind::Mixed, stats)?, len)
         }
         // Sphere, Interval and Affine have their own loops.
-        Method::Sphere | Method::Interval | Method::Affine => return None,
+        Method::Sphere | Method::Interval | Method::Affine | Method::ScalisQuadratic => {
+            return None;
+        }
     })
 }
 

@@ -4,9 +4,9 @@ use boundtrace_ia_core::Real;
 use core::fmt;
 use core::str::FromStr;
 
-/// A ray-processing method. Every method is generic over the
-/// [`Field`](boundtrace_inclusion::Field) it traces and runs in both
-/// [`Mode`]s.
+/// A ray-processing method. Every method but `scalis-quadratic` is generic
+/// over the [`Field`](boundtrace_inclusion::Field) it traces; all run in
+/// both [`Mode`]s.
 ///
 /// | name | method | source |
 /// | --- | --- | --- |
@@ -16,6 +16,10 @@ use core::str::FromStr;
 /// | `quadratic-taylor`, `quadratic-bottom-up`, `quadratic-mixed` | forward quadratic marching | forward-inclusion paper §6 |
 /// | `interval` | interval-arithmetic bisection with a fixed stack | Mitchell 1990; thesis §2.2.2 |
 /// | `affine` | revised-affine-arithmetic bisection with interval pruning | Fryazinov, Pasko and Comninos 2010 |
+/// | `scalis-quadratic` | SCALIS skeletons only ([`trace_scalis`](crate::scalis::trace_scalis)): argmin pre-segmentation, quadratic Bézier oracle, per-primitive ranges | thesis Part III ch. 1 Alg. 1 and 2 |
+///
+/// `scalis-quadratic` needs the skeleton, not a generic field: the generic
+/// [`trace`](crate::trace()) answers `Status::Unsupported` for it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[repr(u32)]
 pub enum Method {
@@ -39,11 +43,14 @@ pub enum Method {
     Interval = 8,
     /// Revised-affine-arithmetic bisection.
     Affine = 9,
+    /// SCALIS fast tracing (thesis Part III ch. 1), through
+    /// [`trace_scalis`](crate::scalis::trace_scalis) only.
+    ScalisQuadratic = 10,
 }
 
 impl Method {
     /// Every method, in the order of the table above.
-    pub const ALL: [Method; 10] = [
+    pub const ALL: [Method; 11] = [
         Method::Sphere,
         Method::Segment,
         Method::LinearTaylor,
@@ -54,6 +61,7 @@ impl Method {
         Method::QuadraticMixed,
         Method::Interval,
         Method::Affine,
+        Method::ScalisQuadratic,
     ];
 
     /// The method's name (`"quadratic-taylor"`, …), as parsed by
@@ -70,6 +78,7 @@ impl Method {
             Method::QuadraticMixed => "quadratic-mixed",
             Method::Interval => "interval",
             Method::Affine => "affine",
+            Method::ScalisQuadratic => "scalis-quadratic",
         }
     }
 
@@ -91,6 +100,7 @@ impl Method {
             7 => Method::QuadraticMixed,
             8 => Method::Interval,
             9 => Method::Affine,
+            10 => Method::ScalisQuadratic,
             _ => return None,
         })
     }
@@ -287,7 +297,8 @@ mod tests {
             assert_eq!(Method::from_code(m as u32), Some(m));
         }
         assert_eq!("nope".parse::<Method>(), Err(UnknownMethod));
-        assert_eq!(Method::from_code(10), None);
+        assert_eq!(Method::from_code(11), None);
+        assert_eq!(Method::from_code(10), Some(Method::ScalisQuadratic));
     }
 
     #[test]

@@ -386,6 +386,77 @@ where
     T: Real + Send + Sync,
     F: Field<T> + Sync,
 {
+    let tracer = |ray: &Ray<T>, span: [T; 2], buf: &mut [Root<T>]| {
+        trace(
+            field,
+            ray,
+            span,
+            settings.method,
+            settings.mode,
+            &settings.params,
+            buf,
+        )
+    };
+    render_with(field, &tracer, camera, bounds, settings)
+}
+
+/// [`render`] of a standard scene: on the SCALIS scenes, `scalis-quadratic`,
+/// `sphere` and `interval` go through [`crate::scalis`] (per-ray primitive
+/// lists built per pixel, up to
+/// [`SCALIS_LIST_CAPACITY`](crate::stats::SCALIS_LIST_CAPACITY) supports,
+/// full evaluation beyond), every other case through [`render`].
+///
+/// # Errors
+/// As [`render`].
+pub fn render_scene<T>(
+    scene: &crate::scenes::Scene<T>,
+    camera: &Camera<T>,
+    settings: &RenderSettings<T>,
+) -> Result<Frame<T>, RenderError>
+where
+    T: Real + Send + Sync,
+{
+    let field = scene.field();
+    match field {
+        crate::scenes::SceneField::Scalis(w)
+            if matches!(
+                settings.method,
+                Method::ScalisQuadratic | Method::Sphere | Method::Interval
+            ) =>
+        {
+            let tracer = |ray: &Ray<T>, span: [T; 2], buf: &mut [Root<T>]| {
+                let mut storage =
+                    [crate::scalis::PrimitiveHit::empty(); crate::stats::SCALIS_LIST_CAPACITY];
+                crate::scalis::trace_scalis_ray(
+                    w.field(),
+                    ray,
+                    span,
+                    settings.method,
+                    settings.mode,
+                    &settings.params,
+                    buf,
+                    &mut storage,
+                )
+            };
+            render_with(field, &tracer, camera, scene.bounds(), settings)
+        }
+        _ => render(field, camera, scene.bounds(), settings),
+    }
+}
+
+/// [`render`] with any per-ray tracer (`field` gives the normals).
+fn render_with<T, F, R>(
+    field: &F,
+    tracer: &R,
+    camera: &Camera<T>,
+    bounds: [[T; 3]; 2],
+    settings: &RenderSettings<T>,
+) -> Result<Frame<T>, RenderError>
+where
+    T: Real + Send + Sync,
+    F: Field<T> + Sync,
+    R: Fn(&Ray<T>, [T; 2], &mut [Root<T>]) -> Trace<T> + Sync,
+{
     check(&bounds, settings)?;
     #[cfg(feature = "parallel")]
     let rows: Vec<Row<T>> = {
@@ -394,12 +465,12 @@ where
             .into_par_iter()
             .map_init(
                 || root_buffer(settings),
-                |buf, y| render_row(field, camera, &bounds, settings, y, buf),
+                |buf, y| render_row(field, tracer, camera, &bounds, settings, y, buf),
             )
             .collect()
     };
     #[cfg(not(feature = "parallel"))]
-    let rows = serial_rows(field, camera, &bounds, settings);
+    let rows = serial_rows(field, tracer, camera, &bounds, settings);
     Ok(assemble(*camera, *settings, rows))
 }
 
@@ -415,7 +486,18 @@ pub fn render_serial<T: Real, F: Field<T>>(
     settings: &RenderSettings<T>,
 ) -> Result<Frame<T>, RenderError> {
     check(&bounds, settings)?;
-    let rows = serial_rows(field, camera, &bounds, settings);
+    let tracer = |ray: &Ray<T>, span: [T; 2], buf: &mut [Root<T>]| {
+        trace(
+            field,
+            ray,
+            span,
+            settings.method,
+            settings.mode,
+            &settings.params,
+            buf,
+        )
+    };
+    let rows = serial_rows(field, &tracer, camera, &bounds, settings);
     Ok(assemble(*camera, *settings, rows))
 }
 
@@ -447,20 +529,22 @@ fn root_buffer<T: Real>(settings: &RenderSettings<T>) -> Vec<Root<T>> {
     ]
 }
 
-fn serial_rows<T: Real, F: Field<T>>(
+fn serial_rows<T: Real, F: Field<T>, R: Fn(&Ray<T>, [T; 2], &mut [Root<T>]) -> Trace<T>>(
     field: &F,
+    tracer: &R,
     camera: &Camera<T>,
     bounds: &[[T; 3]; 2],
     settings: &RenderSettings<T>,
 ) -> Vec<Row<T>> {
     let mut buf = root_buffer(settings);
     (0..settings.height)
-        .map(|y| render_row(field, camera, bounds, settings, y, &mut buf))
+        .map(|y| render_row(field, tracer, camera, bounds, settings, y, &mut buf))
         .collect()
 }
 
-fn render_row<T: Real, F: Field<T>>(
+fn render_row<T: Real, F: Field<T>, R: Fn(&Ray<T>, [T; 2], &mut [Root<T>]) -> Trace<T>>(
     field: &F,
+    tracer: &R,
     camera: &Camera<T>,
     bounds: &[[T; 3]; 2],
     settings: &RenderSettings<T>,
@@ -481,15 +565,7 @@ fn render_row<T: Real, F: Field<T>>(
                 t_reached: T::ZERO,
                 stats: RayStats::default(),
             },
-            Some(span) => trace(
-                field,
-                &ray,
-                span,
-                settings.method,
-                settings.mode,
-                &settings.params,
-                buf,
-            ),
+            Some(span) => tracer(&ray, span, buf),
         };
         // `trace` writes at most `buf.len()` roots; never index past it.
         let n = (tr.roots as usize).min(buf.len());

@@ -39,8 +39,8 @@
 //! ```
 
 use crate::method::{InvalidParams, Method, Mode, Params};
-use crate::scenes::Scene;
-use crate::trace::{RayStats, Root, Side, Status, trace};
+use crate::scenes::{Scene, SceneField};
+use crate::trace::{RayStats, Root, Side, Status, Trace, trace};
 use boundtrace_ia_core::{Interval, Real};
 use boundtrace_inclusion::{Field, FieldNum, Ray};
 use std::fmt;
@@ -1035,18 +1035,16 @@ impl Acc {
     }
 }
 
-/// What [`run_method`] needs per ray (shared by the threads).
-struct Job<'a, T, F> {
-    field: &'a F,
+/// What [`run_method_with`] needs per ray (shared by the threads).
+struct Job<'a, T, R> {
+    tracer: &'a R,
     rays: &'a RaySet<T>,
     reference: &'a Reference<T>,
-    method: Method,
     mode: Mode,
-    params: &'a Params<T>,
     capacity: usize,
 }
 
-impl<T: Real, F: Field<T>> Job<'_, T, F> {
+impl<T: Real, R: Fn(&SampleRay<T>, &mut [Root<T>]) -> Trace<T>> Job<'_, T, R> {
     fn run(&self, start: usize, rays: &[SampleRay<T>]) -> Acc {
         let mut acc = Acc::default();
         let mut buf = vec![
@@ -1059,15 +1057,7 @@ impl<T: Real, F: Field<T>> Job<'_, T, F> {
         for (k, r) in rays.iter().enumerate() {
             let i = start + k;
             let clock = Instant::now();
-            let tr = trace(
-                self.field,
-                &r.ray,
-                r.span,
-                self.method,
-                self.mode,
-                self.params,
-                &mut buf,
-            );
+            let tr = (self.tracer)(r, &mut buf);
             let ns = clock.elapsed().as_nanos();
             acc.status[tr.status as usize] += 1;
             if tr.status == Status::Unsupported {
@@ -1159,6 +1149,30 @@ where
     T: Real + MaybeSync + Send,
     F: Field<T> + MaybeSync,
 {
+    let tracer = |r: &SampleRay<T>, buf: &mut [Root<T>]| {
+        trace(field, &r.ray, r.span, method, mode, params, buf)
+    };
+    run_method_with(&tracer, rays, reference, method, mode, params)
+}
+
+/// [`run_method`] with any per-ray tracer: `tracer(ray, roots)` traces one
+/// sample ray with `method` in `mode` and `params` (used for the SCALIS
+/// methods of [`crate::scalis`], which need the skeleton).
+///
+/// # Errors
+/// As [`run_method`].
+pub fn run_method_with<T, R>(
+    tracer: &R,
+    rays: &RaySet<T>,
+    reference: &Reference<T>,
+    method: Method,
+    mode: Mode,
+    params: &Params<T>,
+) -> Result<MethodStats, StatsError>
+where
+    T: Real + MaybeSync + Send,
+    R: Fn(&SampleRay<T>, &mut [Root<T>]) -> Trace<T> + MaybeSync,
+{
     params.validate()?;
     if params.eps != reference.params().eps {
         return Err(StatsError::EpsMismatch);
@@ -1171,12 +1185,10 @@ where
     }
     let most = reference.roots.iter().map(Vec::len).max().unwrap_or(0);
     let job = Job {
-        field,
+        tracer,
         rays,
         reference,
-        method,
         mode,
-        params,
         capacity: match mode {
             Mode::Opaque => 1,
             Mode::Transparent => (4 * most + 16).max(64),
@@ -1280,8 +1292,38 @@ pub fn run_scene_method(
     mode: Mode,
     params: &Params<f64>,
 ) -> Result<MethodStats, StatsError> {
-    run_method(scene.field(), rays, reference, method, mode, params)
+    match scene.field() {
+        // SCALIS skeletons: `scalis-quadratic`, and `sphere` (per-ray
+        // Lipschitz) and `interval` (per-primitive ranges) through the
+        // per-ray primitive lists, built per ray (timed with the ray).
+        SceneField::Scalis(w)
+            if matches!(
+                method,
+                Method::ScalisQuadratic | Method::Sphere | Method::Interval
+            ) =>
+        {
+            let tracer = |r: &SampleRay<f64>, buf: &mut [Root<f64>]| {
+                let mut storage = [crate::scalis::PrimitiveHit::empty(); SCALIS_LIST_CAPACITY];
+                crate::scalis::trace_scalis_ray(
+                    w.field(),
+                    &r.ray,
+                    r.span,
+                    method,
+                    mode,
+                    params,
+                    buf,
+                    &mut storage,
+                )
+            };
+            run_method_with(&tracer, rays, reference, method, mode, params)
+        }
+        field => run_method(field, rays, reference, method, mode, params),
+    }
 }
+
+/// The per-ray primitive list capacity of [`run_scene_method`] for SCALIS
+/// scenes (a longer list falls back to full evaluation).
+pub const SCALIS_LIST_CAPACITY: usize = 512;
 
 // ---------------------------------------------------------------------------
 // Output

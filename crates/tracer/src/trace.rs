@@ -71,7 +71,8 @@ pub enum Status {
     /// [`Trace::t_reached`], tracing may resume from there.
     BufferFull = 2,
     /// The method needs what the field lacks (`sphere` a global Lipschitz
-    /// bound, `*-taylor` a Taylor bound), or the parameters are invalid;
+    /// bound, `*-taylor` a Taylor bound, `scalis-quadratic` a SCALIS
+    /// skeleton through `scalis::trace_scalis`), or the parameters are invalid;
     /// nothing was traced.
     Unsupported = 3,
 }
@@ -115,8 +116,8 @@ pub struct Trace<T> {
 /// let params = Params::new();
 /// let mut roots = [Root { t: 0.0, side: Side::Touch }; 4];
 /// for method in Method::ALL {
-///     if method == Method::LinearTaylor || method == Method::QuadraticTaylor {
-///         continue; // the ball has no Taylor bound: Status::Unsupported
+///     if matches!(method, Method::LinearTaylor | Method::QuadraticTaylor | Method::ScalisQuadratic) {
+///         continue; // no Taylor bound, not a SCALIS skeleton: Status::Unsupported
 ///     }
 ///     let tr = trace(&Ball, &ray, [0.0, 6.0], method, Mode::Transparent, &params, &mut roots);
 ///     assert_eq!(tr.status, Status::Finished, "{method}");
@@ -150,6 +151,8 @@ pub fn trace<T: Real, F: Field<T>>(
         Method::Affine => {
             bisect::bisect::<T, F, bisect::ByAffine>(field, ray, span, mode, params, roots)
         }
+        // needs the skeleton: `scalis::trace_scalis`
+        Method::ScalisQuadratic => unsupported,
         _ => march::march(field, ray, span, method, mode, params, roots),
     }
 }

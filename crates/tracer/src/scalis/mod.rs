@@ -1,0 +1,914 @@
+//! Fast tracing of SCALIS skeletons (thesis Part III ch. 1 and ch. 2):
+//! per-ray primitive lists, the `scalis-quadratic` method, per-ray
+//! Lipschitz sphere tracing and per-primitive interval bisection.
+//!
+//! These methods need the skeleton (its segments and their supports), not a
+//! generic [`Field`], so they have their own entry point, [`trace_scalis`];
+//! the generic [`trace`](crate::trace()) answers
+//! [`Status::Unsupported`] for [`Method::ScalisQuadratic`].
+//!
+//! # Ray processing
+//!
+//! A ray's [`PrimitiveHit`]s (the sphere-cone supports it crosses, §1.5)
+//! are merged into covered *regions*; the empty space between them is
+//! skipped without any evaluation (the field is `iso > 0` there). Inside a
+//! region:
+//!
+//! - **`scalis-quadratic`** (Alg. 1 and 2, made sound): the region is
+//!   pre-segmented at the argmins of the primitives' homothetic distances
+//!   (§1.3.2) and each interval is processed left to right. A sum of
+//!   per-primitive sound ranges (ch. 2 §2.1, by skeleton cells:
+//!   [`bounds::density_bounds`], evaluated only for the primitives whose
+//!   support meets the interval) that excludes the iso-value proves the
+//!   interval root-free;
+//!   otherwise the interval is split where the oracle of §1.4 predicts the
+//!   root: the first root of the smooth piecewise-quadratic Bézier
+//!   interpolant (eq. 1.10) of the Hermite data of the **normalized field**
+//!   `g∘f∘δ − 1` at its ends, rational with middle weight 3 until a sign
+//!   change isolates a root (Fig. 1.7), polynomial afterwards. The split
+//!   is made at `t_root ± 0.45·eps`, so a correct prediction brackets the
+//!   root in one step; a wrong one costs a bisection-like step. The thesis'
+//!   oracle *rejects* intervals where it predicts no root (a heuristic that
+//!   can miss thin features, §1.8); here only a sound range may reject, so
+//!   the method never misses a root, and the oracle only decides where to
+//!   split (the saved interval of Alg. 1 is the explicit stack).
+//! - **`interval`** (ch. 2 §2.2): the same pre-segmented processing with
+//!   midpoint splits (bisection); on intervals shorter than
+//!   [`REFINE_EPS`]` · eps` with a sign change, the split point comes from
+//!   the polynomial interpolant (polynomial refinement).
+//! - **`sphere`** with the per-ray Lipschitz bound of §1.7: the region is
+//!   cut where the set of crossed supports changes, and sphere tracing runs
+//!   on each piece with the sum of the directional Lipschitz bounds
+//!   ([`ScalisSegment::directional_lipschitz`], ch. 2 §2.1.1) of the
+//!   primitives whose support the piece crosses — instead of one global
+//!   constant that the thinnest primitive of the whole skeleton dictates.
+//!
+//! Every other method runs the generic [`trace`](crate::trace()) on the whole
+//! skeleton.
+//!
+//! Root conventions are the crate's: a crossing is reported within `eps`
+//! of a true root with its side; an interval no longer than
+//! `eps / 2^TOUCH_DEPTH` whose range contains `0` without a sign change is
+//! a [`Side::Touch`].
+
+pub mod bounds;
+pub mod list;
+
+#[cfg(feature = "alloc")]
+pub use list::PrimitiveLists;
+pub use list::{ListError, PrimitiveHit, RayPrimitives, check_segments, for_each_region};
+
+use crate::march::{Next, TOUCH_DEPTH, Walk};
+use crate::method::{Method, Mode, Params};
+use crate::trace::{RayStats, Root, Side, Status, Trace, trace};
+use boundtrace_fields::scalis::{ScalisSegment, ScalisSkeleton};
+use boundtrace_ia_core::{Interval, Real, round};
+use boundtrace_inclusion::{Field, FieldNum, Jet, Ray};
+
+/// Intervals shorter than this many `eps` with a sign change are split by
+/// the polynomial interpolant in the `interval` method (refinement).
+pub const REFINE_EPS: f64 = 1024.0;
+
+/// Skeleton cells per primitive of the first range of an interval.
+pub const CELLS: u32 = 16;
+
+/// Skeleton cells per primitive of the second range, when the first one
+/// cannot decide.
+pub const FINE_CELLS: u32 = 64;
+
+/// Ray intervals shorter than this fraction of a primitive's smallest
+/// radius also get the closed form's range
+/// ([`ScalisSegment::density_range`]: end-point values and monotony from
+/// its derivative enclosure), costly but tight on short intervals, where
+/// the cell sums are not (their error does not shrink with the interval).
+pub const CLOSED_FORM_WIDTH: f64 = 1.0;
+
+/// The depth of the explicit interval stack of the pre-segmented
+/// processing (intervals that cannot be split further are leaves).
+pub const STACK_CAPACITY: usize = 64;
+
+/// The middle weight of the rational Bézier oracle before a root is
+/// isolated (thesis §1.4.2: "a weight equal to 3 … was sufficient").
+pub const ORACLE_WEIGHT: f64 = 3.0;
+
+/// Traces `ray` on `span` through the SCALIS `skeleton` with `method` (see
+/// the module docs), using `hits`, the ray's **complete** list of support
+/// crossings on `span` ([`RayPrimitives`] that did not overflow, or
+/// [`PrimitiveLists`]); every other method runs the generic
+/// [`trace`](crate::trace()) on the skeleton.
+///
+/// [`Status::Unsupported`] for invalid parameters or span, an empty root
+/// buffer, or a skeleton with an infinite (Cauchy) support when the method
+/// needs the lists.
+#[allow(clippy::too_many_arguments)]
+pub fn trace_scalis<T: Real, S: AsRef<[ScalisSegment<T>]>>(
+    skeleton: &ScalisSkeleton<T, S>,
+    hits: &[PrimitiveHit<T>],
+    ray: &Ray<T>,
+    span: [T; 2],
+    method: Method,
+    mode: Mode,
+    params: &Params<T>,
+    roots: &mut [Root<T>],
+) -> Trace<T> {
+    let unsupported = Trace {
+        roots: 0,
+        status: Status::Unsupported,
+        t_reached: span[0],
+        stats: RayStats::default(),
+    };
+    if params.validate().is_err() || !(span[0] <= span[1]) || roots.is_empty() {
+        return unsupported;
+    }
+    let segments = skeleton.segments();
+    let split = match method {
+        Method::ScalisQuadratic => Split::Oracle,
+        Method::Interval => Split::Bisection,
+        Method::Sphere => {
+            if check_segments(segments).is_err() {
+                return unsupported;
+            }
+            return sphere_per_ray(skeleton, hits, ray, span, mode, params, roots);
+        }
+        _ => return trace(skeleton, ray, span, method, mode, params, roots),
+    };
+    if check_segments(segments).is_err() {
+        return unsupported;
+    }
+    let ctx = Ctx {
+        segments,
+        hits,
+        iso: skeleton.iso(),
+        ray,
+    };
+    let mut w = Walk::new(roots, mode, params.eps);
+    let mut out: Option<Trace<T>> = None;
+    for_each_region(hits, |a, b, i, j| {
+        let (a, b) = (a.max(span[0]), b.min(span[1]));
+        if !(a <= b) {
+            return true;
+        }
+        match process_region(&ctx, [a, b], i..j, params, split, &mut w) {
+            Ok(()) => true,
+            Err(tr) => {
+                out = Some(tr);
+                false
+            }
+        }
+    });
+    out.unwrap_or_else(|| w.done(Status::Finished, span[1]))
+}
+
+/// [`trace_scalis`] that builds the ray's primitive list in `storage`
+/// first ([`RayPrimitives::build`]); when the storage overflows, the
+/// methods that need the list fall back to the generic tracer on the whole
+/// skeleton (`scalis-quadratic` to `segment`, the others to themselves):
+/// slower, never wrong.
+#[allow(clippy::too_many_arguments)]
+pub fn trace_scalis_ray<T: Real, S: AsRef<[ScalisSegment<T>]>>(
+    skeleton: &ScalisSkeleton<T, S>,
+    ray: &Ray<T>,
+    span: [T; 2],
+    method: Method,
+    mode: Mode,
+    params: &Params<T>,
+    roots: &mut [Root<T>],
+    storage: &mut [PrimitiveHit<T>],
+) -> Trace<T> {
+    let list = RayPrimitives::build(skeleton.segments(), ray, span, storage);
+    if list.overflowed() {
+        let m = if method == Method::ScalisQuadratic {
+            Method::Segment
+        } else {
+            method
+        };
+        return trace(skeleton, ray, span, m, mode, params, roots);
+    }
+    trace_scalis(
+        skeleton,
+        list.hits(),
+        ray,
+        span,
+        method,
+        mode,
+        params,
+        roots,
+    )
+}
+
+/// How the pre-segmented processing splits an undecided interval.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Split {
+    /// At the oracle's predicted root (`scalis-quadratic`).
+    Oracle,
+    /// At the midpoint, the oracle on short bracketed intervals (`interval`).
+    Bisection,
+}
+
+/// One ray through the skeleton, with its hits.
+struct Ctx<'a, T> {
+    segments: &'a [ScalisSegment<T>],
+    hits: &'a [PrimitiveHit<T>],
+    iso: T,
+    ray: &'a Ray<T>,
+}
+
+/// A point of the ray with the field's enclosure and, once computed, the
+/// Hermite data `(G, G')` of the normalized field.
+#[derive(Clone, Copy)]
+struct Pt<T> {
+    t: T,
+    f: Interval<T>,
+    herm: Option<(T, T)>,
+}
+
+/// `1`, `-1` or `0` (contains zero or empty).
+#[inline]
+fn sign_of<T: Real>(iv: Interval<T>) -> i32 {
+    if iv.is_empty() {
+        0
+    } else if iv.lo() > T::ZERO {
+        1
+    } else if iv.hi() < T::ZERO {
+        -1
+    } else {
+        0
+    }
+}
+
+/// `true` unless the field is proven positive (the bisection's convention).
+#[inline]
+fn inside<T: Real>(f: Interval<T>) -> bool {
+    !(f.lo() > T::ZERO)
+}
+
+impl<T: Real> Ctx<'_, T> {
+    fn seg(&self, h: &PrimitiveHit<T>) -> &ScalisSegment<T> {
+        &self.segments[h.index as usize]
+    }
+
+    /// A sound enclosure of `iso − f` at `t`, from the hits whose
+    /// `[entry, exit]` contains `t` (the others are exactly `0` there).
+    fn value(&self, hits: &[PrimitiveHit<T>], t: T) -> Interval<T> {
+        let p = self.ray.at::<Interval<T>>(t, t);
+        let mut acc = Interval::point(T::ZERO);
+        for h in hits {
+            if h.entry > t {
+                break;
+            }
+            if h.exit >= t {
+                acc = acc + self.seg(h).density(p);
+            }
+        }
+        Interval::point(self.iso) - acc
+    }
+
+    /// `(G, G')` of the normalized field `g(f(o + t·d)) − 1` at `t`.
+    fn hermite(&self, hits: &[PrimitiveHit<T>], t: T) -> (T, T) {
+        let p = self.ray.at::<Jet<T>>(t, t);
+        let mut acc = Jet::constant(T::ZERO);
+        for h in hits {
+            if h.entry > t {
+                break;
+            }
+            if h.exit >= t {
+                acc = acc + self.seg(h).density(p);
+            }
+        }
+        let s = self.seg(&hits[0]);
+        if !(acc.v > T::ZERO) {
+            // outside every support: g(0) − 1, flat
+            let g0 = s.g(Jet::constant(T::ZERO));
+            return (g0.v - T::ONE, T::ZERO);
+        }
+        let g = s.g(acc);
+        (g.v - T::ONE, g.d1)
+    }
+
+    /// A sound enclosure of `iso − f` on `[a, b]`: the sum over the hits
+    /// whose support meets it of their per-primitive ranges by skeleton
+    /// cells ([`bounds::density_bounds`] on the part of `[a, b]` inside the
+    /// hit's `[entry, exit]`, joined with `0` when that is only a part;
+    /// [`CELLS`] cells, then [`FINE_CELLS`] when the first sum cannot
+    /// decide, then intersected with the closed form's range on short
+    /// intervals, [`CLOSED_FORM_WIDTH`]). `stats` counts one bound
+    /// evaluation per stage.
+    fn range(&self, hits: &[PrimitiveHit<T>], a: T, b: T, stats: &mut RayStats) -> Interval<T> {
+        let zero = Interval::point(T::ZERO);
+        let mut r = Interval::ENTIRE;
+        let mut stage = 0;
+        while stage < 3 {
+            stats.bound_evals += 1;
+            let mut acc = zero;
+            for h in hits {
+                if h.entry > b {
+                    break;
+                }
+                if h.exit < a {
+                    continue;
+                }
+                let (u, v) = (a.max(h.entry), b.min(h.exit));
+                let s = self.seg(h);
+                let cells = if stage == 0 { CELLS } else { FINE_CELLS };
+                let mut d = bounds::density_bounds(s, self.ray, u, v, cells);
+                if stage == 2 {
+                    let sk = s.segment();
+                    let short = (Interval::point(v) - Interval::point(u)).hi() * self.ray.speed()
+                        <= sk.ra().min(sk.rb()) * T::from_f64(CLOSED_FORM_WIDTH);
+                    if short {
+                        let c = s.density_range(self.ray, u, v).intersection(d);
+                        if !c.is_empty() {
+                            d = c;
+                        }
+                    }
+                }
+                acc = acc + if u > a || v < b { d.hull(zero) } else { d };
+            }
+            r = Interval::point(self.iso) - acc;
+            if !r.contains(T::ZERO) {
+                break;
+            }
+            stage += 1;
+        }
+        r
+    }
+}
+
+/// The first root in `[0, 1]` of `c0 + c1·u + c2·u²`, if any.
+fn first_unit_root<T: Real>(c0: T, c1: T, c2: T) -> Option<T> {
+    let ok = |u: T| u >= T::ZERO && u <= T::ONE;
+    let scale = c0.abs().max(c1.abs()).max(c2.abs());
+    if !(scale > T::ZERO) || !scale.is_finite() {
+        return None;
+    }
+    if c2.abs() <= scale * T::from_f64(1e-12) {
+        if c1 == T::ZERO {
+            return None;
+        }
+        let u = -c0 / c1;
+        return ok(u).then_some(u);
+    }
+    let disc = c1 * c1 - T::from_f64(4.0) * c2 * c0;
+    if disc < T::ZERO {
+        return None;
+    }
+    let sq = disc.sqrt();
+    let q = if c1 >= T::ZERO {
+        -(c1 + sq) * T::HALF
+    } else {
+        (sq - c1) * T::HALF
+    };
+    let (mut r0, mut r1) = (q / c2, if q != T::ZERO { c0 / q } else { q / c2 });
+    if r1 < r0 {
+        core::mem::swap(&mut r0, &mut r1);
+    }
+    if ok(r0) {
+        Some(r0)
+    } else if ok(r1) {
+        Some(r1)
+    } else {
+        None
+    }
+}
+
+/// The oracle of §1.4 on `[a, b]` with Hermite data `(ga, da)`, `(gb, db)`:
+/// the first root of the smooth piecewise-quadratic interpolant (eq. 1.10:
+/// two quadratic Bézier pieces on the halves, middle ordinate
+/// `(ga + gb)/2 + L/8·(da − db)`), each piece rational with middle weight
+/// `weight` (its roots are those of the weighted numerator).
+fn oracle<T: Real>(a: T, b: T, ga: T, da: T, gb: T, db: T, weight: T) -> Option<T> {
+    let l = b - a;
+    let mid = (ga + gb) * T::HALF + l * T::from_f64(0.125) * (da - db);
+    let quarter = l * T::from_f64(0.25);
+    let pieces = [(ga, ga + quarter * da, mid), (mid, gb - quarter * db, gb)];
+    let mut k = 0;
+    while k < 2 {
+        let (p0, p1, p2) = pieces[k];
+        let wp1 = weight * p1;
+        // (1−u)²p0 + 2w·u(1−u)p1 + u²p2
+        let c0 = p0;
+        let c1 = (wp1 - p0) * T::TWO;
+        let c2 = p0 - wp1 * T::TWO + p2;
+        if let Some(u) = first_unit_root(c0, c1, c2) {
+            let base = if k == 0 { a } else { a + l * T::HALF };
+            let t = base + l * T::HALF * u;
+            if t.is_finite() {
+                return Some(t);
+            }
+        }
+        k += 1;
+    }
+    None
+}
+
+/// The pre-segmented processing of one covered region `[r0, r1]` whose hits
+/// are `hits[range]` (module docs). Roots go to `w`; `Err` carries the
+/// final record when tracing stops.
+fn process_region<T: Real>(
+    ctx: &Ctx<'_, T>,
+    [r0, r1]: [T; 2],
+    range: core::ops::Range<usize>,
+    params: &Params<T>,
+    split: Split,
+    w: &mut Walk<'_, T>,
+) -> Result<(), Trace<T>> {
+    let hits = &ctx.hits[range];
+    if hits.is_empty() {
+        return Ok(());
+    }
+    let eps = params.eps;
+    let fine = eps / T::from_f64(f64::from(1u32 << TOUCH_DEPTH));
+    let delta = eps * T::from_f64(0.45);
+    let refine = eps * T::from_f64(REFINE_EPS);
+    let point = |t: T, w: &mut Walk<'_, T>| {
+        w.stats.field_evals += 1;
+        Pt {
+            t,
+            f: ctx.value(hits, t),
+            herm: None,
+        }
+    };
+    let mut stack = [(
+        Pt {
+            t: r0,
+            f: Interval::point(T::ZERO),
+            herm: None,
+        },
+        Pt {
+            t: r0,
+            f: Interval::point(T::ZERO),
+            herm: None,
+        },
+    ); STACK_CAPACITY];
+    let mut sp = 0usize;
+    let mut cur = point(r0, w);
+    loop {
+        if sp == 0 {
+            if !(cur.t < r1) {
+                return Ok(());
+            }
+            // the next argmin after the cursor (pre-segmentation, §1.3)
+            let mut next = r1;
+            for h in hits {
+                if h.argmin > cur.t + eps && h.argmin < next - eps {
+                    next = h.argmin;
+                }
+            }
+            let nb = point(next, w);
+            stack[0] = (cur, nb);
+            sp = 1;
+            cur = nb;
+        }
+        sp -= 1;
+        let (mut a, mut b) = stack[sp];
+        if w.stats.steps >= params.max_steps {
+            return Err(w.done(Status::MaxSteps, a.t));
+        }
+        w.stats.steps += 1;
+        let len = b.t - a.t;
+        let mid = a.t + len * T::HALF;
+        let splittable = mid > a.t && mid < b.t && sp + 3 <= STACK_CAPACITY;
+        if !(len > eps) || !splittable {
+            // A leaf: a crossing, or (after halving below eps) a touch.
+            let side = match (inside(a.f), inside(b.f)) {
+                (false, true) => Side::Entering,
+                (true, false) => Side::Leaving,
+                _ => {
+                    let r = ctx.range(hits, a.t, b.t, &mut w.stats);
+                    if !r.contains(T::ZERO) {
+                        continue;
+                    }
+                    if splittable && len > fine {
+                        let m = point(mid, w);
+                        stack[sp] = (m, b);
+                        stack[sp + 1] = (a, m);
+                        sp += 2;
+                        continue;
+                    }
+                    Side::Touch
+                }
+            };
+            let t = if a.f.contains(T::ZERO) { a.t } else { mid };
+            if let Next::Stop(tr) = w.register(Root { t, side }, a.t) {
+                return Err(tr);
+            }
+            if side == Side::Touch {
+                // the rest of this contact, up to t + eps, is the same root
+                let end = (t + eps).min(r1);
+                while sp > 0 && stack[sp - 1].1.t <= end {
+                    sp -= 1;
+                }
+                if sp > 0 && stack[sp - 1].0.t < end {
+                    stack[sp - 1].0 = point(end, w);
+                }
+                if cur.t < end {
+                    cur = point(end, w);
+                }
+            }
+            continue;
+        }
+        let r = ctx.range(hits, a.t, b.t, &mut w.stats);
+        if !r.contains(T::ZERO) {
+            continue;
+        }
+        let (sa, sb) = (sign_of(a.f), sign_of(b.f));
+        let bracketed = sa * sb < 0;
+        let use_oracle = match split {
+            Split::Oracle => true,
+            Split::Bisection => bracketed && len <= refine,
+        };
+        let guess = if use_oracle {
+            let (ga, da) = *a.herm.get_or_insert_with(|| {
+                w.stats.field_evals += 1;
+                ctx.hermite(hits, a.t)
+            });
+            let (gb, db) = *b.herm.get_or_insert_with(|| {
+                w.stats.field_evals += 1;
+                ctx.hermite(hits, b.t)
+            });
+            let weight = if bracketed {
+                T::ONE
+            } else {
+                T::from_f64(ORACLE_WEIGHT)
+            };
+            oracle(a.t, b.t, ga, da, gb, db, weight)
+        } else {
+            None
+        };
+        // split at t_root ± δ (both, one or none of them inside), else at
+        // the midpoint
+        let mut cuts = [mid; 2];
+        let mut nc = 1;
+        if let Some(g) = guess.filter(|&g| g > a.t && g < b.t) {
+            let (u, v) = (round::sub_down(g, delta), round::add_down(g, delta));
+            nc = 0;
+            for c in [u, v] {
+                if c > a.t && c < b.t && (nc == 0 || c > cuts[0]) {
+                    cuts[nc] = c;
+                    nc += 1;
+                }
+            }
+            if nc == 0 {
+                cuts[0] = g;
+                nc = 1;
+            }
+        }
+        let mut right = b;
+        let mut k = nc;
+        while k > 0 {
+            k -= 1;
+            let p = point(cuts[k], w);
+            stack[sp] = (p, right);
+            sp += 1;
+            right = p;
+        }
+        stack[sp] = (a, right);
+        sp += 1;
+    }
+}
+
+/// A window of the ray as a [`Field`]: the sum over its hits (support-box
+/// culled) with a Lipschitz bound valid on the window only.
+struct Window<'a, T> {
+    ctx: &'a Ctx<'a, T>,
+    hits: &'a [PrimitiveHit<T>],
+    lipschitz: T,
+}
+
+impl<T: Real> Field<T> for Window<'_, T> {
+    fn eval<N: FieldNum<T>>(&self, p: [N; 3]) -> N {
+        let e = [p[0].enclosure(), p[1].enclosure(), p[2].enclosure()];
+        let mut acc = if e[0].is_bounded() {
+            p[0] * T::ZERO
+        } else {
+            N::constant(T::ZERO)
+        };
+        for h in self.hits {
+            let s = self.ctx.seg(h);
+            if let Some([lo, hi]) = s.support_box() {
+                if (0..3).any(|k| !e[k].is_empty() && (e[k].hi() < lo[k] || e[k].lo() > hi[k])) {
+                    continue;
+                }
+            }
+            acc = acc + s.density(p);
+        }
+        -acc + self.ctx.iso
+    }
+    fn lipschitz(&self) -> Option<T> {
+        Some(self.lipschitz)
+    }
+}
+
+/// Sphere tracing with per-ray, per-window Lipschitz bounds (§1.7; module
+/// docs).
+fn sphere_per_ray<T: Real, S: AsRef<[ScalisSegment<T>]>>(
+    skeleton: &ScalisSkeleton<T, S>,
+    hits: &[PrimitiveHit<T>],
+    ray: &Ray<T>,
+    span: [T; 2],
+    mode: Mode,
+    params: &Params<T>,
+    roots: &mut [Root<T>],
+) -> Trace<T> {
+    let ctx = Ctx {
+        segments: skeleton.segments(),
+        hits,
+        iso: skeleton.iso(),
+        ray,
+    };
+    let [x, y, z] = ray.dir;
+    let speed_lo = (Interval::point(x).sqr() + Interval::point(y).sqr() + Interval::point(z).sqr())
+        .sqrt()
+        .lo();
+    let mut n = 0usize;
+    let mut stats = RayStats::default();
+    let mut out: Option<Trace<T>> = None;
+    for_each_region(hits, |r0, r1, i, j| {
+        let (r0, r1) = (r0.max(span[0]), r1.min(span[1]));
+        if !(r0 <= r1) {
+            return true;
+        }
+        let rh = &hits[i..j];
+        let mut a = r0;
+        while a < r1 {
+            // the next event (an entry or exit) after a
+            let mut b = r1;
+            for h in rh {
+                if h.entry > a && h.entry < b {
+                    b = h.entry;
+                }
+                if h.exit > a && h.exit < b {
+                    b = h.exit;
+                }
+            }
+            let mut lip = Interval::point(T::ZERO);
+            for h in rh {
+                if h.entry <= b && h.exit >= a {
+                    let (u, v) = (a.max(h.entry), b.min(h.exit));
+                    lip = lip + Interval::point(ctx.seg(h).directional_lipschitz(ray, u, v));
+                }
+            }
+            let lipschitz = round::div_up(lip.hi(), speed_lo);
+            let left = params.max_steps.saturating_sub(stats.steps);
+            let (Ok(p), true) = (params.with_max_steps(left.max(1)), left > 0) else {
+                out = Some(Trace {
+                    roots: n as u32,
+                    status: Status::MaxSteps,
+                    t_reached: a,
+                    stats,
+                });
+                return false;
+            };
+            let win = Window {
+                ctx: &ctx,
+                hits: rh,
+                lipschitz: if lipschitz > T::ZERO {
+                    lipschitz
+                } else {
+                    T::MIN_SUBNORMAL
+                },
+            };
+            let buf = &mut roots[n..];
+            if buf.is_empty() {
+                out = Some(Trace {
+                    roots: n as u32,
+                    status: Status::BufferFull,
+                    t_reached: a,
+                    stats,
+                });
+                return false;
+            }
+            let tr = trace(&win, ray, [a, b], Method::Sphere, mode, &p, buf);
+            stats = stats + tr.stats;
+            let mut got = tr.roots as usize;
+            // a root on the window boundary may be reported twice
+            if got > 0 && n > 0 && (roots[n].t - roots[n - 1].t).abs() <= params.eps {
+                roots.copy_within(n + 1..n + got, n);
+                got -= 1;
+            }
+            n += got;
+            match tr.status {
+                Status::Finished if mode == Mode::Opaque && n > 0 => {
+                    out = Some(Trace {
+                        roots: n as u32,
+                        status: Status::Finished,
+                        t_reached: roots[n - 1].t,
+                        stats,
+                    });
+                    return false;
+                }
+                Status::Finished => {}
+                s => {
+                    out = Some(Trace {
+                        roots: n as u32,
+                        status: s,
+                        t_reached: tr.t_reached,
+                        stats,
+                    });
+                    return false;
+                }
+            }
+            a = b;
+        }
+        true
+    });
+    out.unwrap_or(Trace {
+        roots: n as u32,
+        status: Status::Finished,
+        t_reached: span[1],
+        stats,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    extern crate alloc;
+    use alloc::vec::Vec;
+    use boundtrace_fields::homothetic::{Segment, SegmentKernel};
+
+    const NONE: Root<f64> = Root {
+        t: f64::NAN,
+        side: Side::Touch,
+    };
+
+    fn skeleton() -> ScalisSkeleton<f64, [ScalisSegment<f64>; 3]> {
+        let k = SegmentKernel::compact_polynomial(6, 2.0).unwrap();
+        let mk = |a: [f64; 3], b: [f64; 3], ra: f64, rb: f64| {
+            ScalisSegment::new(Segment::new(a, ra, b, rb).unwrap(), k, 1.0).unwrap()
+        };
+        ScalisSkeleton::new([
+            mk([0.0, -1.0, 0.0], [0.0, 1.0, 0.0], 0.1, 0.15),
+            mk([0.0, 1.0, 0.0], [1.0, 1.5, 0.0], 0.15, 0.1),
+            mk([2.0, -1.0, 0.0], [2.0, 1.0, 0.3], 0.08, 0.08),
+        ])
+        .unwrap()
+    }
+
+    /// Roots by dense sampling of the sign (for rays crossing cleanly).
+    fn sampled_roots(sk: &impl Field<f64>, ray: &Ray<f64>, span: [f64; 2]) -> Vec<(f64, Side)> {
+        let n = 200_000;
+        let mut out = Vec::new();
+        let f = |t: f64| -> f64 { sk.eval(ray.at::<f64>(t, t)) };
+        let mut prev = f(span[0]);
+        for i in 1..=n {
+            let t = span[0] + (span[1] - span[0]) * f64::from(i) / f64::from(n);
+            let v = f(t);
+            if prev > 0.0 && v <= 0.0 {
+                out.push((t, Side::Entering));
+            } else if prev <= 0.0 && v > 0.0 {
+                out.push((t, Side::Leaving));
+            }
+            prev = v;
+        }
+        out
+    }
+
+    #[test]
+    fn every_scalis_method_finds_every_root() {
+        let sk = skeleton();
+        let params = Params::new();
+        let span = [0.0, 6.0];
+        for (o, d) in [
+            ([-2.0, 0.05, 0.02], [1.0, 0.0, 0.0]),
+            ([-2.0, 0.9, 0.01], [1.0, 0.1, 0.0]),
+            ([-2.0, -0.5, 0.1], [1.0, 0.02, 0.0]),
+        ] {
+            let ray = Ray::new(o, d);
+            let expect = sampled_roots(&sk, &ray, span);
+            assert!(expect.len() >= 2, "{expect:?}");
+            let mut store = [PrimitiveHit::empty(); 8];
+            let list = RayPrimitives::build(sk.segments(), &ray, span, &mut store);
+            assert!(!list.overflowed());
+            for method in [Method::ScalisQuadratic, Method::Interval, Method::Sphere] {
+                let mut buf = [NONE; 16];
+                let tr = trace_scalis(
+                    &sk,
+                    list.hits(),
+                    &ray,
+                    span,
+                    method,
+                    Mode::Transparent,
+                    &params,
+                    &mut buf,
+                );
+                assert_eq!(tr.status, Status::Finished, "{method}");
+                let got = &buf[..tr.roots as usize];
+                assert_eq!(got.len(), expect.len(), "{method}: {got:?} vs {expect:?}");
+                for (g, e) in got.iter().zip(&expect) {
+                    assert!(
+                        (g.t - e.0).abs() <= 2.0 * params.eps,
+                        "{method}: {g:?} vs {e:?}"
+                    );
+                    assert_eq!(g.side, e.1, "{method}");
+                }
+                let mut one = [NONE; 1];
+                let tr = trace_scalis(
+                    &sk,
+                    list.hits(),
+                    &ray,
+                    span,
+                    method,
+                    Mode::Opaque,
+                    &params,
+                    &mut one,
+                );
+                assert_eq!((tr.status, tr.roots), (Status::Finished, 1), "{method}");
+                assert!(
+                    (one[0].t - expect[0].0).abs() <= 2.0 * params.eps,
+                    "{method}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn empty_space_costs_nothing_and_misses_are_misses() {
+        let sk = skeleton();
+        let params = Params::new();
+        let ray = Ray::new([-2.0, 5.0, 0.0], [1.0, 0.0, 0.0]);
+        let mut buf = [NONE; 4];
+        let mut store = [PrimitiveHit::empty(); 8];
+        let tr = trace_scalis_ray(
+            &sk,
+            &ray,
+            [0.0, 6.0],
+            Method::ScalisQuadratic,
+            Mode::Opaque,
+            &params,
+            &mut buf,
+            &mut store,
+        );
+        assert_eq!((tr.status, tr.roots), (Status::Finished, 0));
+        assert_eq!(tr.stats, RayStats::default());
+    }
+
+    #[test]
+    fn overflow_falls_back_and_generic_trace_is_unsupported() {
+        let sk = skeleton();
+        let params = Params::new();
+        let ray = Ray::new([-2.0, 0.05, 0.02], [1.0, 0.0, 0.0]);
+        let mut store = [PrimitiveHit::empty(); 1];
+        let mut a = [NONE; 1];
+        let tr = trace_scalis_ray(
+            &sk,
+            &ray,
+            [0.0, 6.0],
+            Method::ScalisQuadratic,
+            Mode::Opaque,
+            &params,
+            &mut a,
+            &mut store,
+        );
+        assert_eq!((tr.status, tr.roots), (Status::Finished, 1));
+        let mut b = [NONE; 1];
+        let seg = trace(
+            &sk,
+            &ray,
+            [0.0, 6.0],
+            Method::Segment,
+            Mode::Opaque,
+            &params,
+            &mut b,
+        );
+        assert_eq!((a[0].t, tr.stats), (b[0].t, seg.stats));
+        let tr = trace(
+            &sk,
+            &ray,
+            [0.0, 6.0],
+            Method::ScalisQuadratic,
+            Mode::Opaque,
+            &params,
+            &mut b,
+        );
+        assert_eq!(tr.status, Status::Unsupported);
+        let bad = Params { eps: 0.0, ..params };
+        let tr = trace_scalis(
+            &sk,
+            &[],
+            &ray,
+            [0.0, 6.0],
+            Method::ScalisQuadratic,
+            Mode::Opaque,
+            &bad,
+            &mut b,
+        );
+        assert_eq!(tr.status, Status::Unsupported);
+    }
+
+    #[test]
+    fn oracle_predicts_the_root_of_a_parabola() {
+        // G(t) = (t − 1)² − 0.25 on [0, 1]: the interpolant is exact, the
+        // first root is t = 0.5
+        let (ga, da, gb, db) = (0.75, -2.0, -0.25, 0.0);
+        let t = oracle(0.0, 1.0, ga, da, gb, db, 1.0).unwrap();
+        assert!((t - 0.5).abs() < 1e-12, "{t}");
+        // a weight > 1 pulls the curve toward its control polygon: a dip
+        // that the polynomial misses is found by the rational oracle
+        let (ga, da, gb, db) = (0.1, -0.6, 0.3, 0.0);
+        assert!(oracle(0.0, 1.0, ga, da, gb, db, 1.0).is_none());
+        assert!(oracle(0.0, 1.0, ga, da, gb, db, 3.0).is_some());
+        assert_eq!(first_unit_root(1.0, 0.0, 1.0), None);
+        assert_eq!(first_unit_root(-1.0, 2.0, 0.0), Some(0.5));
+    }
+}
