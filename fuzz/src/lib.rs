@@ -395,16 +395,17 @@ pub fn forward_bounds(data: &[u8]) -> Result<(), String> {
 // field_bounds
 
 /// Bounds of random fields over random ray intervals: the first byte picks
-/// the family (modulo 4): kernels, blob sums and HRBF fits under every
+/// the family (modulo 5): kernels, blob sums and HRBF fits under every
 /// density operator (`f32` and `f64`); 1- and 2-segment SCALIS skeletons;
 /// homothetic-distance primitives; random blobtrees (CSG, smooth and
-/// compact operators over transformed primitives). Every bound type
+/// compact operators over transformed primitives); the tracer's
+/// per-primitive SCALIS cell bounds. Every bound type
 /// (`Interval`, `Affine`, forward linear and quadratic, bottom-up, Taylor
 /// and mixed, per-primitive ranges, directional Lipschitz) must contain a
 /// sound enclosure of the field at sampled points of its interval.
 pub fn field_bounds(data: &[u8]) -> Result<(), String> {
     let (h, rest) = head(data);
-    match h % 4 {
+    match h % 5 {
         0 => {
             let mut d = Draw::new(rest);
             let c = draw!(d, common::kernel_cases::case());
@@ -421,11 +422,60 @@ pub fn field_bounds(data: &[u8]) -> Result<(), String> {
             let c = draw!(d, common::scalis_cases::hcase());
             outcome(common::scalis_cases::check_homothetic(&c))
         }
-        _ => {
+        3 => {
             let mut rng = common::blobtree::Rng::from_bytes(rest);
             outcome(common::blobtree::check_bound_containment(&mut rng))
         }
+        _ => {
+            let mut d = Draw::new(rest);
+            let c = draw!(d, common::scalis_cases::case());
+            let cells = draw!(d, 1u32..=64);
+            scalis_cell_bounds(&c, cells)
+        }
     }
+}
+
+/// The tracer's per-primitive SCALIS density bounds by skeleton cells
+/// (`boundtrace::tracer::scalis::bounds::density_bounds`, float distances
+/// widened outward) contain a sound enclosure of each segment's density at
+/// the ends and three sampled points of the ray interval.
+fn scalis_cell_bounds(c: &common::scalis_cases::Case, cells: u32) -> Result<(), String> {
+    use boundtrace::fields::homothetic::Segment;
+    use boundtrace::fields::scalis::ScalisSegment;
+    use boundtrace::ia_core::Interval;
+    use boundtrace::tracer::scalis::bounds::density_bounds;
+    let speed = c.ray.speed();
+    if !(speed > 1e-3 && speed.is_finite()) {
+        return Ok(());
+    }
+    let (t0, t1) = (c.t0, c.t0 + c.h);
+    for &((a, ra), (b, rb)) in &c.segs {
+        let Ok(seg) = Segment::new(a, ra, b, rb) else {
+            continue;
+        };
+        let Ok(seg) = ScalisSegment::new(seg, c.kernel, 1.0) else {
+            continue;
+        };
+        let bound = density_bounds(&seg, &c.ray, t0, t1, cells);
+        for t in [
+            t0,
+            t1,
+            t0 + c.h * c.taus[0],
+            t0 + c.h * c.taus[1],
+            t0 + c.h * c.taus[2],
+        ] {
+            let exact: Interval<f64> = seg.density(c.ray.at::<Interval<f64>>(t, t));
+            if bound.intersection(exact).is_empty() {
+                return Err(format!(
+                    "density_bounds({cells} cells) = {bound:?} misses the density {exact:?} \
+                     at t = {t:e} on [{t0:e}, {t1:e}]\n  segment {a:?} r={ra} -> {b:?} r={rb}\n  \
+                     kernel {:?}\n  ray {:?}",
+                    c.kernel, c.ray
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 // ---------------------------------------------------------------------------
@@ -641,7 +691,7 @@ mod tests {
     fn every_selector_runs() {
         let ramp: Vec<u8> = (0..=255u8).collect();
         // Distinct selectors: operation and type bits, or the family bits.
-        let selectors = [256u16, 256, 2, 4, 2, 2];
+        let selectors = [256u16, 256, 2, 5, 2, 2];
         for ((name, target), count) in TARGETS.into_iter().zip(selectors) {
             for sel in 0..count {
                 for body in [&[][..], &[0u8; 64][..], &ramp[..]] {
