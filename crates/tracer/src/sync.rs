@@ -385,7 +385,8 @@ pub struct TileBuffers<'b, T> {
 /// the buffers, the trace record in [`TileRay::trace`]. Allocation- and
 /// recursion-free.
 ///
-/// Buffers too short for `rays.len() · roots_per_ray` roots, or a
+/// A Taylor method on a tree without Taylor bounds marks every ray
+/// [`Status::Unsupported`] (as [`trace`] does). Buffers too short for `rays.len() · roots_per_ray` roots, or a
 /// `roots_per_ray` of 0, leave the affected rays with
 /// [`Status::Unsupported`]; an invalid [`SyncConfig`] or tracing parameters
 /// mark every ray unsupported. Never panics on such input.
@@ -405,6 +406,23 @@ pub fn trace_tile<T: Real>(job: &TileJob<'_, T>, buf: &mut TileBuffers<'_, T>) -
             r.done = true;
         }
         return counters;
+    }
+    // The Taylor methods need Taylor bounds, which a blobtree (full or
+    // pruned) may lack: then nothing is traced, as `trace` would say.
+    if let Some(r) = buf.rays.iter().find(|r| !r.done) {
+        let t = r.trace.t_reached;
+        let taylor = match job.method {
+            Method::LinearTaylor => Some(job.tree.taylor_linear(&r.ray, t, t).is_some()),
+            Method::QuadraticTaylor => Some(job.tree.taylor_quadratic(&r.ray, t, t).is_some()),
+            _ => None,
+        };
+        if taylor == Some(false) {
+            for r in buf.rays.iter_mut().filter(|r| !r.done) {
+                r.trace.status = Status::Unsupported;
+                r.done = true;
+            }
+            return counters;
+        }
     }
     let cap = (job.config.m_overlap as usize)
         .min(buf.active.len())
