@@ -419,7 +419,10 @@ pub fn render_serial<T: Real, F: Field<T>>(
     Ok(assemble(*camera, *settings, rows))
 }
 
-pub(crate) fn check<T: Real>(bounds: &[[T; 3]; 2], settings: &RenderSettings<T>) -> Result<(), RenderError> {
+pub(crate) fn check<T: Real>(
+    bounds: &[[T; 3]; 2],
+    settings: &RenderSettings<T>,
+) -> Result<(), RenderError> {
     settings.validate()?;
     let ok = (0..3).all(|i| {
         bounds[0][i].is_finite() && bounds[1][i].is_finite() && bounds[0][i] <= bounds[1][i]

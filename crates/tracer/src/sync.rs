@@ -79,7 +79,10 @@ pub struct InvalidSyncConfig;
 
 impl fmt::Display for InvalidSyncConfig {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "synchronized tracing: m_overlap must be in 1..={M_OVERLAP}")
+        write!(
+            f,
+            "synchronized tracing: m_overlap must be in 1..={M_OVERLAP}"
+        )
     }
 }
 
@@ -320,12 +323,7 @@ pub struct TileRay<T> {
 impl<T: Real> TileRay<T> {
     /// The ray through pixel `(px, py)` of a `width × height` image, with
     /// its span in `bounds`.
-    pub fn new(
-        camera: &Camera<T>,
-        pixel: [u32; 2],
-        size: [u32; 2],
-        bounds: &[[T; 3]; 2],
-    ) -> Self {
+    pub fn new(camera: &Camera<T>, pixel: [u32; 2], size: [u32; 2], bounds: &[[T; 3]; 2]) -> Self {
         let ray = camera.ray(pixel[0], pixel[1], size[0], size[1]);
         let span = ray_box_span(&ray, bounds);
         Self {
@@ -439,7 +437,14 @@ pub fn trace_tile<T: Real>(job: &TileJob<'_, T>, buf: &mut TileBuffers<'_, T>) -
         counters.max_active = counters.max_active.max(range.active as u64);
         if range.full_tree {
             counters.overflow_ranges += 1;
-            trace_range(&job.tree, job.tree.len() as u64, range.z, job, buf, &mut counters);
+            trace_range(
+                &job.tree,
+                job.tree.len() as u64,
+                range.z,
+                job,
+                buf,
+                &mut counters,
+            );
             continue;
         }
         for j in 0..range.active {
@@ -458,7 +463,14 @@ pub fn trace_tile<T: Real>(job: &TileJob<'_, T>, buf: &mut TileBuffers<'_, T>) -
             }
             Err(_) => {
                 counters.view_failures += 1;
-                trace_range(&job.tree, job.tree.len() as u64, range.z, job, buf, &mut counters);
+                trace_range(
+                    &job.tree,
+                    job.tree.len() as u64,
+                    range.z,
+                    job,
+                    buf,
+                    &mut counters,
+                );
             }
         }
     }
@@ -532,10 +544,10 @@ fn trace_range<T: Real, F: Field<T>>(
             slot.copy_within(1..got, 0);
             got -= 1;
         }
-        for j in 0..got {
-            let t = slot[j].t;
-            let p = [0, 1, 2].map(|i| r.ray.origin[i] + t * r.ray.dir[i]);
-            buf.normals[base + have + j] = normal(field, p);
+        let normals = &mut buf.normals[base + have..base + have + got];
+        for (n, root) in normals.iter_mut().zip(&slot[..got]) {
+            let p = [0, 1, 2].map(|i| r.ray.origin[i] + root.t * r.ray.dir[i]);
+            *n = normal(field, p);
         }
         r.trace.roots += got as u32;
         r.trace.t_reached = tr.t_reached;
@@ -614,7 +626,9 @@ mod tests {
     fn cursor_keeps_every_overlapping_entry() {
         let mut s = 99u64;
         let mut rnd = || {
-            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             (s >> 11) as f64 / (1u64 << 53) as f64
         };
         for m in [1usize, 3, 8, 128] {
@@ -638,7 +652,11 @@ mod tests {
 
     #[test]
     fn cursor_skips_empty_space() {
-        let e = [entry(4, [1.0, 2.0]), entry(1, [1.5, 2.5]), entry(0, [5.0, 6.0])];
+        let e = [
+            entry(4, [1.0, 2.0]),
+            entry(1, [1.5, 2.5]),
+            entry(0, [5.0, 6.0]),
+        ];
         let mut active = [0u32; 4];
         let mut c = RangeCursor::new(&e);
         let r = c.next_range(&mut active, 0).unwrap();
@@ -659,7 +677,12 @@ mod tests {
 
     #[test]
     fn overflow_falls_back_to_the_full_tree() {
-        let e = [entry(0, [0.0, 3.0]), entry(2, [0.0, 1.0]), entry(4, [2.0, 4.0]), entry(6, [5.0, 6.0])];
+        let e = [
+            entry(0, [0.0, 3.0]),
+            entry(2, [0.0, 1.0]),
+            entry(4, [2.0, 4.0]),
+            entry(6, [5.0, 6.0]),
+        ];
         let mut active = [0u32; 1];
         let mut c = RangeCursor::new(&e);
         let r = c.next_range(&mut active, 8).unwrap();
@@ -677,7 +700,14 @@ mod tests {
     fn config_validation() {
         assert!(SyncConfig::default().validate().is_ok());
         assert!(SyncConfig::default().with_m_overlap(0).is_err());
-        assert!(SyncConfig::default().with_m_overlap(M_OVERLAP as u32 + 1).is_err());
-        assert_eq!(SyncConfig::default().with_m_overlap(4).unwrap().m_overlap, 4);
+        assert!(
+            SyncConfig::default()
+                .with_m_overlap(M_OVERLAP as u32 + 1)
+                .is_err()
+        );
+        assert_eq!(
+            SyncConfig::default().with_m_overlap(4).unwrap().m_overlap,
+            4
+        );
     }
 }

@@ -89,9 +89,9 @@ impl fmt::Display for SyncError {
             SyncError::Render(e) => write!(f, "{e}"),
             SyncError::Tiles(e) => write!(f, "{e}"),
             SyncError::Config(e) => write!(f, "{e}"),
-            SyncError::GridMismatch => f.write_str(
-                "synchronized rendering: the A-buffer was built for another image size",
-            ),
+            SyncError::GridMismatch => {
+                f.write_str("synchronized rendering: the A-buffer was built for another image size")
+            }
         }
     }
 }
@@ -149,7 +149,8 @@ pub fn render_sync<T: Real + Send + Sync>(
     let ab = ABuffer::build(camera, grid, bounds, &abvs)?;
     let abuffer_time = t.elapsed();
     let t = Instant::now();
-    let (frame, counters) = render_tiles(tree.as_ref(), &ab, camera, bounds, settings, &sync.config)?;
+    let (frame, counters) =
+        render_tiles(tree.as_ref(), &ab, camera, bounds, settings, &sync.config)?;
     let trace_time = t.elapsed();
     Ok((
         frame,
@@ -337,10 +338,18 @@ mod tests {
             render_sync(&tree, &cam, bounds, &st, &bad_m),
             Err(SyncError::Config(_))
         ));
-        let ab = ABuffer::build(&cam, TileGrid::new(4, 4, 8).unwrap(), bounds, &tree.abvs())
-            .unwrap();
+        let ab =
+            ABuffer::build(&cam, TileGrid::new(4, 4, 8).unwrap(), bounds, &tree.abvs()).unwrap();
         assert_eq!(
-            render_tiles(tree.as_ref(), &ab, &cam, bounds, &st, &SyncConfig::default()).err(),
+            render_tiles(
+                tree.as_ref(),
+                &ab,
+                &cam,
+                bounds,
+                &st,
+                &SyncConfig::default()
+            )
+            .err(),
             Some(SyncError::GridMismatch)
         );
     }

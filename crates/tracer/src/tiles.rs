@@ -46,9 +46,9 @@
 //! rayon's pool; the result is identical to the serial build (entries are
 //! sorted by a total key: tile, entry depth, primitive index).
 
+use crate::camera::Camera;
 #[cfg(feature = "alloc")]
 use crate::camera::{Projection, ray_box_span};
-use crate::camera::Camera;
 #[cfg(feature = "alloc")]
 use alloc::vec::Vec;
 #[cfg(feature = "alloc")]
@@ -122,9 +122,7 @@ impl fmt::Display for TileError {
             TileError::Bounds => f.write_str(
                 "tile A-buffer: the bounding box must be finite with min <= max on every axis",
             ),
-            TileError::TooManyEntries => {
-                f.write_str("tile A-buffer: more than u32::MAX fragments")
-            }
+            TileError::TooManyEntries => f.write_str("tile A-buffer: more than u32::MAX fragments"),
         }
     }
 }
@@ -490,8 +488,8 @@ fn fragments<T: Real>(
 mod tests {
     extern crate std;
     use super::*;
-    use std::string::ToString;
     use boundtrace_fields::bounding::{Aabb, Bounding, Sphere, SphereCone};
+    use std::string::ToString;
 
     fn abv(node: u32, volume: Option<Bounding<f64>>) -> Abv<f64> {
         Abv {
@@ -507,7 +505,9 @@ mod tests {
         let mut out = Vec::new();
         let mut s = 12345u64;
         let mut rnd = || {
-            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             ((s >> 11) as f64 / (1u64 << 53) as f64) * 2.4 - 1.2
         };
         for i in 0..60u32 {
@@ -602,8 +602,8 @@ mod tests {
     #[test]
     fn footprints_prune_tiles() {
         // A small sphere in the image centre is listed in few tiles.
-        let cam = Camera::perspective([0.0, 0.0, 3.0], [0.0; 3], [0.0, 1.0, 0.0], 45.0, 1.0)
-            .unwrap();
+        let cam =
+            Camera::perspective([0.0, 0.0, 3.0], [0.0; 3], [0.0, 1.0, 0.0], 45.0, 1.0).unwrap();
         let grid = TileGrid::new(64, 64, 8).unwrap();
         let s = abv(
             0,
@@ -633,8 +633,8 @@ mod tests {
         assert_eq!(TileGrid::new(0, 4, 8), Err(TileError::ZeroSize));
         assert_eq!(TileGrid::new(4, 4, 0), Err(TileError::TileSize));
         assert_eq!(TileGrid::new(4, 4, 65), Err(TileError::TileSize));
-        let cam = Camera::perspective([0.0, 0.0, 3.0], [0.0; 3], [0.0, 1.0, 0.0], 45.0, 1.0)
-            .unwrap();
+        let cam =
+            Camera::perspective([0.0, 0.0, 3.0], [0.0; 3], [0.0, 1.0, 0.0], 45.0, 1.0).unwrap();
         let grid = TileGrid::new(4, 4, 8).unwrap();
         assert_eq!(grid.tile_count(), 1);
         assert_eq!(
