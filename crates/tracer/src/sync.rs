@@ -32,7 +32,7 @@
 //! the active primitives, sorted by post-order index), and every unfinished
 //! ray of the tile traces its part `[z_b/c, z_e/c] ∩ span` (`c` from
 //! [`depth_factor`]) with **any** [`Method`] through
-//! [`trace`](crate::trace::trace) on the pruned field. Consecutive ranges
+//! [`trace`] on the pruned field. Consecutive ranges
 //! share the exact boundary value, so nothing is left untraced between
 //! them; a root registered at a shared boundary is kept once.
 //!
