@@ -395,4 +395,43 @@ mod tests {
             }
         }
     }
+
+    #[test]
+    fn a_view_needing_too_much_stack_falls_back_to_the_full_tree() {
+        // A right comb of 12 overlapping spheres: its pruned view needs an
+        // evaluation stack of 12 > VIEW_STACK = 8, so the view is refused and
+        // the range is traced with the full tree (counted), same image.
+        let u = Operator::compact_union(0.05, 0.1).unwrap();
+        let mut node = Node::primitive(Primitive::sphere([0.55, 0.0, 0.0], 0.2).unwrap());
+        for k in (0..11).rev() {
+            let x = -0.55 + 0.1 * k as f64;
+            let s =
+                Node::primitive(Primitive::sphere([x, 0.05 * k as f64 - 0.2, 0.0], 0.2).unwrap());
+            node = Node::op(u, s, node);
+        }
+        let tree = FlatBlobtree::from_node(&node).unwrap();
+        assert!(tree.stack_need() > 8);
+        let bounds = [[-1.0f64; 3], [1.0; 3]];
+        let cam = Camera::framing(bounds, [0.0, 0.0, -1.0], 40.0, 1.0).unwrap();
+        let st = RenderSettings::new(12, 12, Method::Sphere).unwrap();
+        let sync = SyncSettings {
+            tile_size: 12,
+            ..SyncSettings::default()
+        };
+        let (frame, report) = render_sync(&tree, &cam, bounds, &st, &sync).unwrap();
+        assert!(report.counters.view_failures > 0, "{:?}", report.counters);
+        let full = crate::render::render(&tree.as_ref(), &cam, bounds, &st).unwrap();
+        let mut hits = 0;
+        for y in 0..12 {
+            for x in 0..12 {
+                let (a, b) = (frame.depth(x, y), full.depth(x, y));
+                assert_eq!(a.is_some(), b.is_some(), "({x}, {y})");
+                if let (Some(a), Some(b)) = (a, b) {
+                    assert!((a - b).abs() <= 2.0 * st.params.eps);
+                    hits += 1;
+                }
+            }
+        }
+        assert!(hits > 0);
+    }
 }
