@@ -321,8 +321,9 @@ pub struct TileRay<T> {
 }
 
 impl<T: Real> TileRay<T> {
-    /// The ray through pixel `(px, py)` of a `width × height` image, with
-    /// its span in `bounds`.
+    /// The ray through pixel `pixel = [x, y]` of an image of
+    /// `size = [width, height]` ([`Camera::ray`]), with its span in
+    /// `bounds` ([`ray_box_span`]).
     pub fn new(camera: &Camera<T>, pixel: [u32; 2], size: [u32; 2], bounds: &[[T; 3]; 2]) -> Self {
         let ray = camera.ray(pixel[0], pixel[1], size[0], size[1]);
         let span = ray_box_span(&ray, bounds);

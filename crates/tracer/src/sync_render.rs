@@ -434,4 +434,37 @@ mod tests {
         }
         assert!(hits > 0);
     }
+
+    #[test]
+    fn f32_frames_match_the_full_tree() {
+        // The GPU's number type: f32 depths in the A-buffer, f32 tracing.
+        let s = |x: f64, y: f64| Node::primitive(Primitive::sphere([x, y, 0.1 * x], 0.25).unwrap());
+        let u = Operator::compact_union(0.08, 0.16).unwrap();
+        let tree = FlatBlobtree::from_node(&Node::op(
+            u,
+            Node::op(u, s(-0.4, 0.0), s(0.0, 0.2)),
+            Node::op(u, s(0.4, 0.0), s(0.1, -0.4)),
+        ))
+        .unwrap();
+        let bounds = [[-1.0f32; 3], [1.0; 3]];
+        let cam = Camera::framing(bounds, [0.2, -0.1, -1.0], 40.0, 1.0).unwrap();
+        for method in [Method::Sphere, Method::Segment, Method::QuadraticMixed] {
+            let st = RenderSettings::<f32>::new(16, 16, method).unwrap();
+            let (frame, _) =
+                render_sync(&tree, &cam, bounds, &st, &SyncSettings::default()).unwrap();
+            let full = crate::render::render(&tree.as_ref(), &cam, bounds, &st).unwrap();
+            let mut hits = 0;
+            for y in 0..16 {
+                for x in 0..16 {
+                    let (a, b) = (frame.depth(x, y), full.depth(x, y));
+                    assert_eq!(a.is_some(), b.is_some(), "{method} ({x}, {y})");
+                    if let (Some(a), Some(b)) = (a, b) {
+                        assert!((a - b).abs() <= 1e-4 * b.abs() + 2.0 * st.params.eps);
+                        hits += 1;
+                    }
+                }
+            }
+            assert!(hits > 10, "{method}: {hits} hits");
+        }
+    }
 }
