@@ -153,9 +153,9 @@ equivalence! {
     aggregate_3_quadratic => "aggregate-3", Method::QuadraticMixed, 4, 12.0;
     #[ignore = "full-tree quadratic marching of 1,110 primitives: minutes; run with --release --ignored"]
     aggregate_3_smooth_quadratic => "aggregate-3-smooth", Method::QuadraticMixed, 4, 12.0;
-    #[ignore = "full-tree quadratic marching of 11,110 primitives: minutes; run with --release --ignored"]
+    #[ignore = "full-tree quadratic marching of 11,110 primitives: over 15 min in release; run with --release --ignored"]
     aggregate_4_quadratic => "aggregate-4", Method::QuadraticMixed, 2, 6.0;
-    #[ignore = "full-tree quadratic marching of 11,110 primitives: minutes; run with --release --ignored"]
+    #[ignore = "full-tree quadratic marching of 11,110 primitives: over 15 min in release; run with --release --ignored"]
     aggregate_4_smooth_quadratic => "aggregate-4-smooth", Method::QuadraticMixed, 2, 6.0;
 }
 
