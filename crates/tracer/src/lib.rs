@@ -40,6 +40,9 @@
 //! | `image`, `render` (`alloc`/`std`) | depth, normal, shaded and steps-heatmap images, PNG; (parallel) rendering | forward-inclusion paper Fig. 10 |
 //! | `scenes` (`std`) | the standard procedural scenes of the papers | forward-inclusion paper §7; thesis Part III; synchronized-tracing paper Fig. 16 |
 //! | `stats` (`std`) | the statistics harness and the dense reference | thesis §1.8 |
+//! | [`tiles`] | the tile A-buffer (builder: `alloc`) of blobtree ABVs | synchronized-tracing paper §6.1 |
+//! | [`sync`] | synchronized per-tile ray processing with pruned views (no_std, caller buffers) | synchronized-tracing paper §6.2, Alg. 3 |
+//! | `sync_render` (`std`) | rendering a blobtree by synchronized tracing, timings | synchronized-tracing paper §6, Fig. 20 |
 //!
 //! # Features
 //! - `std` (default): images, PNG, standard scenes, statistics (implies `alloc`).
@@ -74,6 +77,10 @@ pub mod scenes;
 pub mod slice;
 #[cfg(feature = "std")]
 pub mod stats;
+pub mod sync;
+#[cfg(feature = "std")]
+pub mod sync_render;
+pub mod tiles;
 pub mod trace;
 
 pub use camera::Camera;

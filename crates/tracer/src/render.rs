@@ -501,7 +501,10 @@ pub fn render_serial<T: Real, F: Field<T>>(
     Ok(assemble(*camera, *settings, rows))
 }
 
-fn check<T: Real>(bounds: &[[T; 3]; 2], settings: &RenderSettings<T>) -> Result<(), RenderError> {
+pub(crate) fn check<T: Real>(
+    bounds: &[[T; 3]; 2],
+    settings: &RenderSettings<T>,
+) -> Result<(), RenderError> {
     settings.validate()?;
     let ok = (0..3).all(|i| {
         bounds[0][i].is_finite() && bounds[1][i].is_finite() && bounds[0][i] <= bounds[1][i]
@@ -510,9 +513,9 @@ fn check<T: Real>(bounds: &[[T; 3]; 2], settings: &RenderSettings<T>) -> Result<
 }
 
 /// One row's pixels and hits (hit counts per pixel are `trace.roots`).
-struct Row<T> {
-    pixels: Vec<Pixel<T>>,
-    hits: Vec<Hit<T>>,
+pub(crate) struct Row<T> {
+    pub(crate) pixels: Vec<Pixel<T>>,
+    pub(crate) hits: Vec<Hit<T>>,
 }
 
 fn root_buffer<T: Real>(settings: &RenderSettings<T>) -> Vec<Root<T>> {
@@ -592,7 +595,7 @@ fn hit_at<T: Real, F: Field<T>>(field: &F, ray: &Ray<T>, root: &Root<T>) -> Hit<
     }
 }
 
-fn assemble<T: Real>(
+pub(crate) fn assemble<T: Real>(
     camera: Camera<T>,
     settings: RenderSettings<T>,
     rows: Vec<Row<T>>,
