@@ -35,6 +35,7 @@
 //! | [`march`] | sphere, segment, forward linear and quadratic marching | Hart 1996; Galin et al. 2020; forward-inclusion paper §4–6 |
 //! | [`bisect`] | interval and revised-affine bisection with a fixed stack | Mitchell 1990; Fryazinov et al. 2010 |
 //! | [`camera`] | perspective look-at and orthographic cameras | — |
+//! | [`pixel`] | one pixel's ray clipped and traced (shared by the CPU renderer and the GPU shader) | — |
 //! | `image`, `render` (`alloc`/`std`) | depth, normal, shaded and steps-heatmap images, PNG; (parallel) rendering | forward-inclusion paper Fig. 10 |
 //! | `scenes` (`std`) | the standard procedural scenes of the papers | forward-inclusion paper §7; thesis Part III; synchronized-tracing paper Fig. 16 |
 //! | `stats` (`std`) | the statistics harness and the dense reference | thesis §1.8 |
@@ -63,6 +64,7 @@ pub mod camera;
 pub mod image;
 pub mod march;
 pub mod method;
+pub mod pixel;
 #[cfg(feature = "std")]
 pub mod render;
 #[cfg(feature = "std")]
