@@ -718,6 +718,7 @@ impl<T: Real> Frame<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::camera::ray_box_span;
     use boundtrace_inclusion::FieldNum;
 
     /// The unit ball as a signed distance (Lipschitz 1).
