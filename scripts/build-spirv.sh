@@ -25,11 +25,10 @@ target=${CARGO_TARGET_DIR:-$root/target}
 case "$target" in /*) ;; *) target="$root/$target" ;; esac
 out="$target/spirv/boundtrace-gpu-shader.spv"
 
-echo "==> building the SPIR-V builder (cached in $target/spirv-builder)"
+echo "==> building the SPIR-V builder (cached in $target/spirv-builder) and compiling crates/gpu-shader"
+# `cargo run` puts the codegen backend (librustc_codegen_spirv.so) and the
+# nightly's rustc libraries on the library path; the nested shader build gets
+# its own target dir.
 (cd crates/gpu-builder &&
-    CARGO_TARGET_DIR="$target/spirv-builder" cargo +"$toolchain" build --release --locked -q)
-
-echo "==> compiling crates/gpu-shader to SPIR-V"
-# The nested shader build must not inherit the stable workspace's target dir.
-env -u CARGO_TARGET_DIR "$target/spirv-builder/release/boundtrace-gpu-builder" \
-    "$out" "$target/spirv-shader"
+    CARGO_TARGET_DIR="$target/spirv-builder" cargo +"$toolchain" run --release --locked -q -- \
+        "$out" "$target/spirv-shader")

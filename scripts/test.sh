@@ -41,9 +41,10 @@ cargo test -p boundtrace-tracer --features parallel --lib
 step "cargo doc (deny warnings)"
 RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps
 
-step "no_std build of boundtrace-ia-core, -inclusion, -fields and -tracer for thumbv7em-none-eabihf"
+step "no_std build of boundtrace-ia-core, -inclusion, -fields, -tracer and -gpu-kernel for thumbv7em-none-eabihf"
 cargo build -p boundtrace-ia-core -p boundtrace-inclusion -p boundtrace-fields \
-    -p boundtrace-tracer --target thumbv7em-none-eabihf --no-default-features --features libm
+    -p boundtrace-tracer -p boundtrace-gpu-kernel --target thumbv7em-none-eabihf \
+    --no-default-features --features libm
 step "no_std + alloc build of boundtrace-fields and -tracer (builders, HRBF storage, images)"
 cargo build -p boundtrace-fields -p boundtrace-tracer --target thumbv7em-none-eabihf \
     --no-default-features --features libm,alloc

@@ -1,6 +1,7 @@
 //! Builds `crates/gpu-shader` to SPIR-V with rust-gpu and copies the module
 //! to the path given as the first argument; the optional second argument
-//! is the (absolute) target directory of the shader build.
+//! is the (absolute) target directory of the shader build;
+//! `BOUNDTRACE_SHADER_FEATURES` (comma-separated) enables shader features.
 //!
 //! Run through `scripts/build-spirv.sh`, which installs the pinned nightly
 //! and picks the output path the host crate (`boundtrace-gpu`) loads.
@@ -19,6 +20,15 @@ fn main() -> ExitCode {
     let out = PathBuf::from(out);
     let shader = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../gpu-shader");
     let mut builder = SpirvBuilder::new(&shader, "spirv-unknown-vulkan1.1").release(true);
+    // Extra shader-crate features, comma-separated (e.g. `trace`).
+    if let Ok(features) = std::env::var("BOUNDTRACE_SHADER_FEATURES") {
+        let list: Vec<String> = features
+            .split(',')
+            .filter(|f| !f.is_empty())
+            .map(str::to_owned)
+            .collect();
+        builder = builder.shader_crate_features(list);
+    }
     if let Some(dir) = target_dir {
         builder = builder.target_dir_path(PathBuf::from(dir));
     }

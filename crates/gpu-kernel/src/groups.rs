@@ -27,19 +27,32 @@ impl<'a, T: Real> FlatBlobGroups<'a, T> {
     /// The union of the groups ending at `ends` in `blobs`; `None` when
     /// the invariant does not hold.
     pub fn new(iso: T, ends: &'a [u32], blobs: &'a [PointBlob<T>]) -> Option<Self> {
-        if ends.is_empty() || !iso.is_finite() {
-            return None;
+        let f = Self::from_parts(iso, ends, blobs);
+        f.is_valid().then_some(f)
+    }
+
+    /// The value without the check (for the shader, which must not build
+    /// an `Option` of slices): check [`is_valid`](Self::is_valid) before
+    /// use; an invalid value evaluates to NaN, never out of bounds.
+    pub fn from_parts(iso: T, ends: &'a [u32], blobs: &'a [PointBlob<T>]) -> Self {
+        Self { iso, ends, blobs }
+    }
+
+    /// Whether the invariant holds.
+    pub fn is_valid(&self) -> bool {
+        if self.ends.is_empty() || !self.iso.is_finite() {
+            return false;
         }
         let mut start = 0u32;
         let mut n = 0;
-        while n < ends.len() {
-            if ends[n] <= start || ends[n] as usize > blobs.len() {
-                return None;
+        while n < self.ends.len() {
+            if self.ends[n] <= start || self.ends[n] as usize > self.blobs.len() {
+                return false;
             }
-            start = ends[n];
+            start = self.ends[n];
             n += 1;
         }
-        Some(Self { iso, ends, blobs })
+        true
     }
 
     /// Group `n` as a blob set (`None` never happens for a value built by
@@ -52,7 +65,7 @@ impl<'a, T: Real> FlatBlobGroups<'a, T> {
             *self.ends.get(n - 1)? as usize
         };
         let end = *self.ends.get(n)? as usize;
-        Blobs::new(self.iso, self.blobs.get(start..end)?).ok()
+        Some(Blobs::new_unchecked(self.iso, self.blobs.get(start..end)?))
     }
 
     /// The field of group `n`, NaN ("no information") if it did not build.

@@ -7,15 +7,16 @@
 //! Nothing here re-implements tracing: [`render_pixel`] builds the scene's
 //! field over the flat buffers (a [`BlobtreeRef`], a [`Blobs`] over a
 //! `&[PointBlob<f32>]` or a [`FlatBlobGroups`]) and calls the tracer's
-//! [`trace_pixel`] and [`normal`], the same functions the CPU renderer
-//! calls. Scenes are data: editing one never recompiles the shader.
+//! `trace_pixel_in` and [`normal`], the same functions the CPU renderer
+//! calls ([`trace_pixel_in`] is [`trace_pixel`](boundtrace_tracer::pixel::trace_pixel)
+//! with the root buffer as a window). Scenes are data: editing one never recompiles the shader.
 //!
 //! ```
 //! use boundtrace_fields::{Kernel, PointBlob};
 //! use boundtrace_gpu_kernel::{Constants, HitOut, SceneKind, render_pixel};
 //! use boundtrace_tracer::camera::Camera;
 //! use boundtrace_tracer::pixel::PixelSetup;
-//! use boundtrace_tracer::{Method, Mode, Params};
+//! use boundtrace_tracer::{Method, Mode, Params, Root, Side};
 //!
 //! let k = Kernel::compact(6, 0.5f32)?;
 //! let blobs = [PointBlob::new([0.0, 0.0, 0.0], 1.0, k)?];
@@ -30,8 +31,9 @@
 //!     params: Params::new(),
 //! };
 //! let c = Constants::new(&setup, SceneKind::Blobs, 0.5, 1, 0);
+//! let mut roots = [Root { t: 0.0, side: Side::Touch }; 1];
 //! let mut hits = [HitOut::default(); 1];
-//! let out = render_pixel(&c, &[], &[], &blobs, 4, 4, &mut hits, 0);
+//! let out = render_pixel(&c, &[], &[], &blobs, 4, 4, &mut roots, &mut hits, 0);
 //! assert_eq!(out.roots, 1); // the centre pixel hits the blob
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
@@ -46,12 +48,15 @@ mod groups;
 
 pub use groups::FlatBlobGroups;
 
+#[cfg(not(target_arch = "spirv"))]
 use boundtrace_fields::blobtree::BlobtreeRef;
 use boundtrace_fields::{Blobs, PointBlob};
 use boundtrace_inclusion::Field;
+#[cfg(test)]
+use boundtrace_tracer::Side;
 use boundtrace_tracer::camera::{Camera, Projection};
-use boundtrace_tracer::pixel::{PixelSetup, trace_pixel};
-use boundtrace_tracer::{Method, Mode, Params, Root, Side, Status, normal};
+use boundtrace_tracer::pixel::{PixelSetup, trace_pixel_in};
+use boundtrace_tracer::{Method, Mode, Params, Root, Status, normal};
 
 /// The largest per-pixel root buffer of the GPU (transparent mode): a
 /// fixed-size local array in the shader.
@@ -228,17 +233,33 @@ impl Constants {
     /// The tracer's view of the constants; `None` for an unknown method,
     /// mode or projection code.
     pub fn setup(&self) -> Option<PixelSetup<f32>> {
-        let projection = match self.projection {
-            0 => Projection::Perspective,
-            1 => Projection::Orthographic,
-            _ => return None,
+        self.codes_valid().then(|| self.decode())
+    }
+
+    /// Whether the method, mode and projection codes are known.
+    pub fn codes_valid(&self) -> bool {
+        self.projection <= 1 && self.mode <= 1 && Method::from_code(self.method).is_some()
+    }
+
+    /// The tracer's view of the constants, unknown codes read as the first
+    /// value of their enum (check [`codes_valid`](Self::codes_valid) first).
+    /// Option-free, so that the shader never moves a niche-encoded value.
+    pub fn decode(&self) -> PixelSetup<f32> {
+        let projection = if self.projection == 1 {
+            Projection::Orthographic
+        } else {
+            Projection::Perspective
         };
-        let mode = match self.mode {
-            0 => Mode::Opaque,
-            1 => Mode::Transparent,
-            _ => return None,
+        let mode = if self.mode == 1 {
+            Mode::Transparent
+        } else {
+            Mode::Opaque
         };
-        Some(PixelSetup {
+        let method = match Method::from_code(self.method) {
+            Some(m) => m,
+            None => Method::Sphere,
+        };
+        PixelSetup {
             camera: Camera {
                 eye: self.eye,
                 right: self.right,
@@ -250,7 +271,7 @@ impl Constants {
             bounds: [self.bounds_lo, self.bounds_hi],
             width: self.width,
             height: self.height,
-            method: Method::from_code(self.method)?,
+            method,
             mode,
             params: Params {
                 eps: self.eps,
@@ -259,7 +280,7 @@ impl Constants {
                 k: self.k,
                 max_steps: self.max_steps,
             },
-        })
+        }
     }
 }
 
@@ -315,10 +336,11 @@ const fn unsupported() -> PixelOut {
 
 /// Traces pixel `(x, y)` of the frame described by `c` over the scene
 /// buffers (`words`: blobtree node words or blob-group ends; `floats`:
-/// blobtree parameters; `blobs`: the blob scenes' blobs), writing its
-/// roots and normals to `hits[base..base + c.max_roots]` and returning the
-/// trace record. The host guarantees that `hits` has room; indices past
-/// its end are not written.
+/// blobtree parameters; `blobs`: the blob scenes' blobs), with
+/// `roots[base..base + c.max_roots]` as its root buffer, writing its roots
+/// and normals to `hits[base..base + c.max_roots]` and returning the trace
+/// record. A `roots` too short gives [`Status::Unsupported`]; hit indices
+/// past the end of `hits` are not written.
 ///
 /// Bad constants or scene data (unknown codes, a blobtree that does not
 /// validate, bad group ends) give [`Status::Unsupported`] with nothing
@@ -331,61 +353,68 @@ pub fn render_pixel(
     blobs: &[PointBlob<f32>],
     x: u32,
     y: u32,
+    roots: &mut [Root<f32>],
     hits: &mut [HitOut],
     base: usize,
 ) -> PixelOut {
-    let Some(setup) = c.setup() else {
+    if !c.codes_valid() {
         return unsupported();
-    };
+    }
+    let setup = c.decode();
     match SceneKind::from_code(c.scene) {
+        // Blobtree decoding builds `FieldError` values (with `&'static str`
+        // messages), which rust-gpu 0.11 cannot compile: CPU only for now.
+        #[cfg(not(target_arch = "spirv"))]
         Some(SceneKind::Blobtree) => match BlobtreeRef::new(words, floats) {
-            Ok(tree) => pixel(&tree, &setup, c.max_roots, x, y, hits, base),
+            Ok(tree) => pixel(&tree, &setup, c.max_roots, x, y, roots, hits, base),
             Err(_) => unsupported(),
         },
-        Some(SceneKind::Blobs) => match Blobs::new(c.iso, blobs) {
-            Ok(field) => pixel(&field, &setup, c.max_roots, x, y, hits, base),
-            Err(_) => unsupported(),
-        },
+        Some(SceneKind::Blobs) if c.iso.is_finite() => {
+            let field = Blobs::new_unchecked(c.iso, blobs);
+            pixel(&field, &setup, c.max_roots, x, y, roots, hits, base)
+        }
+        Some(SceneKind::Blobs) => unsupported(),
         Some(SceneKind::BlobGroups) => {
-            let ends = if (c.groups as usize) <= words.len() {
-                &words[..c.groups as usize]
-            } else {
+            if c.groups as usize > words.len() {
                 return unsupported();
-            };
-            match FlatBlobGroups::new(c.iso, ends, blobs) {
-                Some(field) => pixel(&field, &setup, c.max_roots, x, y, hits, base),
-                None => unsupported(),
+            }
+            let field = FlatBlobGroups::from_parts(c.iso, &words[..c.groups as usize], blobs);
+            if field.is_valid() {
+                pixel(&field, &setup, c.max_roots, x, y, roots, hits, base)
+            } else {
+                unsupported()
             }
         }
+        #[cfg(target_arch = "spirv")]
+        Some(SceneKind::Blobtree) => unsupported(),
         None => unsupported(),
     }
 }
 
 /// [`trace_pixel`] into a fixed local root buffer, then the hits.
+#[allow(clippy::too_many_arguments)]
 fn pixel<F: Field<f32>>(
     field: &F,
     setup: &PixelSetup<f32>,
     max_roots: u32,
     x: u32,
     y: u32,
+    roots: &mut [Root<f32>],
     hits: &mut [HitOut],
     base: usize,
 ) -> PixelOut {
-    let mut buf = [Root {
-        t: 0.0f32,
-        side: Side::Touch,
-    }; MAX_GPU_ROOTS as usize];
+    // The root buffer is this pixel's window of a storage buffer: rust-gpu
+    // can neither sub-slice a mutable storage buffer nor turn a local array
+    // into a slice.
     let n = if max_roots == 0 {
         1
-    } else if max_roots < MAX_GPU_ROOTS {
-        max_roots as usize
     } else {
-        MAX_GPU_ROOTS as usize
+        max_roots as usize
     };
-    let px = trace_pixel(field, setup, x, y, &mut buf[..n]);
+    let px = trace_pixel_in(field, setup, x, y, roots, [base, n]);
     let mut i = 0usize;
     while i < px.trace.roots as usize {
-        let root = buf[i];
+        let root = roots[base + i];
         let o = px.ray.origin;
         let d = px.ray.dir;
         let p = [
@@ -444,7 +473,11 @@ mod tests {
         let bad = Constants { method: 77, ..c };
         assert_eq!(bad.setup(), None);
         let mut hits = [HitOut::default(); 1];
-        let out = render_pixel(&bad, &[], &[], &[], 0, 0, &mut hits, 0);
+        let mut roots = [Root {
+            t: 0.0,
+            side: Side::Touch,
+        }; 1];
+        let out = render_pixel(&bad, &[], &[], &[], 0, 0, &mut roots, &mut hits, 0);
         assert_eq!(out.status, Status::Unsupported as u32);
     }
 
@@ -461,16 +494,20 @@ mod tests {
             params: Params::new(),
         };
         let mut hits = [HitOut::default(); 1];
+        let mut roots = [Root {
+            t: 0.0,
+            side: Side::Touch,
+        }; 1];
         // A blobtree with an odd word count does not validate.
         let c = Constants::new(&setup, SceneKind::Blobtree, 0.0, 1, 0);
-        let out = render_pixel(&c, &[1, 2, 3], &[], &[], 1, 1, &mut hits, 0);
+        let out = render_pixel(&c, &[1, 2, 3], &[], &[], 1, 1, &mut roots, &mut hits, 0);
         assert_eq!(out.status, Status::Unsupported as u32);
         // More groups than words.
         let c = Constants::new(&setup, SceneKind::BlobGroups, 0.5, 1, 3);
-        let out = render_pixel(&c, &[1], &[], &[], 1, 1, &mut hits, 0);
+        let out = render_pixel(&c, &[1], &[], &[], 1, 1, &mut roots, &mut hits, 0);
         assert_eq!(out.status, Status::Unsupported as u32);
         let c = Constants { scene: 9, ..c };
-        let out = render_pixel(&c, &[], &[], &[], 1, 1, &mut hits, 0);
+        let out = render_pixel(&c, &[], &[], &[], 1, 1, &mut roots, &mut hits, 0);
         assert_eq!(out.status, Status::Unsupported as u32);
     }
 }

@@ -75,4 +75,4 @@ pub mod trace;
 
 pub use camera::Camera;
 pub use method::{InvalidParams, Method, Mode, Params, UnknownMethod};
-pub use trace::{RayStats, Root, Side, Status, Trace, first_root, normal, trace};
+pub use trace::{RayStats, Root, Side, Status, Trace, first_root, normal, trace, trace_in};

@@ -6,7 +6,7 @@
 
 use crate::camera::{Camera, ray_box_span};
 use crate::method::{Method, Mode, Params};
-use crate::trace::{RayStats, Root, Status, Trace, trace};
+use crate::trace::{RayStats, Root, Status, Trace, trace_in};
 use boundtrace_ia_core::Real;
 use boundtrace_inclusion::Ray;
 
@@ -47,7 +47,7 @@ pub struct PixelTrace<T> {
 
 /// Traces pixel `(x, y)` (`y = 0` is the top row): the ray through its
 /// centre, clipped to `setup.bounds` by [`ray_box_span`], traced by
-/// [`trace`](fn@trace) with the setup's method and mode into `roots`
+/// [`trace`](fn@crate::trace) with the setup's method and mode into `roots`
 /// (opaque mode needs one slot). Allocation- and recursion-free.
 pub fn trace_pixel<T: Real, F: boundtrace_inclusion::Field<T>>(
     field: &F,
@@ -55,6 +55,22 @@ pub fn trace_pixel<T: Real, F: boundtrace_inclusion::Field<T>>(
     x: u32,
     y: u32,
     roots: &mut [Root<T>],
+) -> PixelTrace<T> {
+    let len = roots.len();
+    trace_pixel_in(field, setup, x, y, roots, [0, len])
+}
+
+/// [`trace_pixel`] with the roots written to the window
+/// `roots[base..base + len]` (`window = [base, len]`; see
+/// [`trace_in`]): the GPU shader's form, one window per pixel of a storage
+/// buffer. The reported root count never exceeds `len`.
+pub fn trace_pixel_in<T: Real, F: boundtrace_inclusion::Field<T>>(
+    field: &F,
+    setup: &PixelSetup<T>,
+    x: u32,
+    y: u32,
+    roots: &mut [Root<T>],
+    window: [usize; 2],
 ) -> PixelTrace<T> {
     let ray = setup.camera.ray(x, y, setup.width, setup.height);
     let span = ray_box_span(&ray, &setup.bounds);
@@ -65,7 +81,7 @@ pub fn trace_pixel<T: Real, F: boundtrace_inclusion::Field<T>>(
             t_reached: T::ZERO,
             stats: RayStats::default(),
         },
-        Some(span) => trace(
+        Some(span) => trace_in(
             field,
             &ray,
             span,
@@ -73,13 +89,14 @@ pub fn trace_pixel<T: Real, F: boundtrace_inclusion::Field<T>>(
             setup.mode,
             &setup.params,
             roots,
+            window,
         ),
     };
-    // `trace` writes at most `roots.len()` roots; never report more.
-    let n = if (tr.roots as usize) < roots.len() {
+    // `trace_in` writes at most `len` roots; never report more.
+    let n = if (tr.roots as usize) < window[1] {
         tr.roots
     } else {
-        roots.len() as u32
+        window[1] as u32
     };
     PixelTrace {
         ray,
@@ -135,6 +152,18 @@ mod tests {
         assert!((r * r - d2).abs() < 1e-2, "{} vs {}", r * r, d2);
         let corner = trace_pixel(&Ball, &s, 0, 0, &mut buf);
         assert_eq!(corner.trace.roots, 0);
+        // The same pixel in a window of a larger buffer.
+        let mut big = [Root {
+            t: -1.0,
+            side: Side::Touch,
+        }; 8];
+        let w = trace_pixel_in(&Ball, &s, 4, 4, &mut big, [5, 3]);
+        assert_eq!(w.trace, c.trace);
+        assert_eq!(&big[5..7], &buf[..2]);
+        assert!(big[..5].iter().all(|r| r.t == -1.0) && big[7].t == -1.0);
+        // A window that does not fit is unsupported.
+        let bad = trace_pixel_in(&Ball, &s, 4, 4, &mut big, [6, 3]);
+        assert_eq!(bad.trace.status, Status::Unsupported);
     }
 
     #[test]
