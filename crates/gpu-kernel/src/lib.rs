@@ -314,7 +314,7 @@ pub struct PixelOut {
 pub struct HitOut {
     /// The ray parameter (the depth along the unit-speed camera ray).
     pub t: f32,
-    /// The [`Side`] code.
+    /// The [`Side`](boundtrace_tracer::Side) code.
     pub side: u32,
     /// The unit normal ([`normal`]).
     pub normal: [f32; 3],
@@ -391,7 +391,7 @@ pub fn render_pixel(
     }
 }
 
-/// [`trace_pixel`] into a fixed local root buffer, then the hits.
+/// [`trace_pixel_in`] on this pixel's window of the root buffer, then the hits.
 #[allow(clippy::too_many_arguments)]
 fn pixel<F: Field<f32>>(
     field: &F,
