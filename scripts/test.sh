@@ -19,7 +19,15 @@ cargo fmt --all -- --check
 step "cargo clippy (deny warnings)"
 cargo clippy --workspace --all-targets -- -D warnings
 
-step "cargo test --workspace"
+step "GPU: Vulkan driver (lavapipe when none) and the SPIR-V module (rust-gpu nightly)"
+scripts/gpu-test.sh
+# lavapipe wants a runtime dir; the GPU difftests run in the workspace tests.
+if [ -z "${XDG_RUNTIME_DIR:-}" ]; then
+    export XDG_RUNTIME_DIR="${TMPDIR:-/tmp}/boundtrace-xdg-$(id -u)"
+    mkdir -p "$XDG_RUNTIME_DIR" && chmod 0700 "$XDG_RUNTIME_DIR"
+fi
+
+step "cargo test --workspace (GPU difftests included: they fail, never skip, with CI=true)"
 cargo test --workspace
 
 step "cargo test boundtrace-ia-core, -inclusion, -fields and -tracer with the libm back end"
@@ -33,9 +41,10 @@ cargo test -p boundtrace-tracer --features parallel --lib
 step "cargo doc (deny warnings)"
 RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps
 
-step "no_std build of boundtrace-ia-core, -inclusion, -fields and -tracer for thumbv7em-none-eabihf"
+step "no_std build of boundtrace-ia-core, -inclusion, -fields, -tracer and -gpu-kernel for thumbv7em-none-eabihf"
 cargo build -p boundtrace-ia-core -p boundtrace-inclusion -p boundtrace-fields \
-    -p boundtrace-tracer --target thumbv7em-none-eabihf --no-default-features --features libm
+    -p boundtrace-tracer -p boundtrace-gpu-kernel --target thumbv7em-none-eabihf \
+    --no-default-features --features libm
 step "no_std + alloc build of boundtrace-fields and -tracer (builders, HRBF storage, images)"
 cargo build -p boundtrace-fields -p boundtrace-tracer --target thumbv7em-none-eabihf \
     --no-default-features --features libm,alloc

@@ -203,6 +203,14 @@ impl<T: Real, S: AsRef<[PointBlob<T>]>> Blobs<T, S> {
         Ok(Self { iso, blobs })
     }
 
+    /// [`new`](Self::new) without the check, for the GPU shader (rust-gpu
+    /// cannot build a [`FieldError`] there): a non-finite `iso` gives a
+    /// non-finite field instead of an error.
+    #[inline]
+    pub fn new_unchecked(iso: T, blobs: S) -> Self {
+        Self { iso, blobs }
+    }
+
     /// The iso-value.
     #[inline]
     pub fn iso(&self) -> T {

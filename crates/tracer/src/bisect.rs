@@ -90,7 +90,7 @@ pub(crate) fn bisect<T: Real, F: Field<T>, M: Narrow<T>>(
     span: [T; 2],
     mode: Mode,
     params: &Params<T>,
-    roots: &mut [Root<T>],
+    roots: crate::march::RootSlots<'_, T>,
 ) -> Trace<T> {
     let mut w = Walk::new(roots, mode, params.eps);
     let mut stack = [(T::ZERO, T::ZERO); STACK_CAPACITY];

@@ -37,6 +37,7 @@
 //! | [`scalis`] | per-ray primitive lists, `scalis-quadratic`, per-ray Lipschitz sphere tracing, per-primitive interval bisection of SCALIS skeletons | thesis Part III ch. 1–2 |
 //! | `slice` (`std`) | inside/outside slice stacks of SCALIS skeletons from all roots along `z` | thesis Part III ch. 2 §2.2 |
 //! | [`camera`] | perspective look-at and orthographic cameras | — |
+//! | [`pixel`] | one pixel's ray clipped and traced (shared by the CPU renderer and the GPU shader) | — |
 //! | `image`, `render` (`alloc`/`std`) | depth, normal, shaded and steps-heatmap images, PNG; (parallel) rendering | forward-inclusion paper Fig. 10 |
 //! | `scenes` (`std`) | the standard procedural scenes of the papers | forward-inclusion paper §7; thesis Part III; synchronized-tracing paper Fig. 16 |
 //! | `stats` (`std`) | the statistics harness and the dense reference | thesis §1.8 |
@@ -68,6 +69,7 @@ pub mod camera;
 pub mod image;
 pub mod march;
 pub mod method;
+pub mod pixel;
 #[cfg(feature = "std")]
 pub mod render;
 pub mod scalis;
@@ -85,4 +87,4 @@ pub mod trace;
 
 pub use camera::Camera;
 pub use method::{InvalidParams, Method, Mode, Params, UnknownMethod};
-pub use trace::{RayStats, Root, Side, Status, Trace, first_root, normal, trace};
+pub use trace::{RayStats, Root, Side, Status, Trace, first_root, normal, trace, trace_in};

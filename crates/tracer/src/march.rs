@@ -107,10 +107,31 @@ impl<T: Real> StepBound<T> {
     }
 }
 
+/// The root buffer of one ray: `len` slots of `buf` from `base` (a window
+/// rather than a sub-slice, which a GPU cannot take of a mutable storage
+/// buffer). Built by [`trace_in`](crate::trace::trace_in), which checks
+/// `base + len <= buf.len()`.
+pub(crate) struct RootSlots<'a, T> {
+    pub(crate) buf: &'a mut [Root<T>],
+    pub(crate) base: usize,
+    pub(crate) len: usize,
+}
+
+impl<T: Copy> RootSlots<'_, T> {
+    #[inline]
+    fn get(&self, i: usize) -> Root<T> {
+        self.buf[self.base + i]
+    }
+    #[inline]
+    fn set(&mut self, i: usize, root: Root<T>) {
+        self.buf[self.base + i] = root;
+    }
+}
+
 /// The per-ray state shared by the marchers and bisections: the root
 /// buffer, the counters and the mode.
 pub(crate) struct Walk<'a, T> {
-    pub(crate) roots: &'a mut [Root<T>],
+    pub(crate) roots: RootSlots<'a, T>,
     pub(crate) n: u32,
     pub(crate) stats: RayStats,
     pub(crate) mode: Mode,
@@ -126,7 +147,7 @@ pub(crate) enum Next<T> {
 }
 
 impl<'a, T: Real> Walk<'a, T> {
-    pub(crate) fn new(roots: &'a mut [Root<T>], mode: Mode, eps: T) -> Self {
+    pub(crate) fn new(roots: RootSlots<'a, T>, mode: Mode, eps: T) -> Self {
         Self {
             roots,
             n: 0,
@@ -150,7 +171,7 @@ impl<'a, T: Real> Walk<'a, T> {
     /// contact and is dropped; a crossing within `eps` after a touch
     /// replaces it (roots closer than `eps` are reported once).
     pub(crate) fn register(&mut self, root: Root<T>, t_before: T) -> Next<T> {
-        if let Some(last) = self.n.checked_sub(1).map(|i| self.roots[i as usize]) {
+        if let Some(last) = self.n.checked_sub(1).map(|i| self.roots.get(i as usize)) {
             if (root.t - last.t).abs() <= self.eps {
                 if root.side == Side::Touch {
                     return Next::Go;
@@ -161,10 +182,10 @@ impl<'a, T: Real> Walk<'a, T> {
             }
         }
         let i = self.n as usize;
-        if i >= self.roots.len() {
+        if i >= self.roots.len {
             return Next::Stop(self.done(Status::BufferFull, t_before));
         }
-        self.roots[i] = root;
+        self.roots.set(i, root);
         self.n += 1;
         match self.mode {
             Mode::Opaque => Next::Stop(self.done(Status::Finished, root.t)),
@@ -491,7 +512,7 @@ pub(crate) fn march<T: Real, F: Field<T>>(
     method: Method,
     mode: Mode,
     params: &Params<T>,
-    roots: &mut [Root<T>],
+    roots: RootSlots<'_, T>,
 ) -> Trace<T> {
     if method == Method::Sphere {
         return sphere(field, ray, span, mode, params, roots);
@@ -573,7 +594,7 @@ fn sphere<T: Real, F: Field<T>>(
     span: [T; 2],
     mode: Mode,
     params: &Params<T>,
-    roots: &mut [Root<T>],
+    roots: RootSlots<'_, T>,
 ) -> Trace<T> {
     let [t0, t1] = span;
     let mut w = Walk::new(roots, mode, params.eps);

@@ -4,7 +4,7 @@
 //! Fig. 10, 12 and 13, §7).
 //!
 //! Each pixel's ray is clipped to the scene's bounding box by
-//! [`ray_box_span`] and traced there by [`trace`](fn@crate::trace) with the
+//! [`ray_box_span`](crate::camera::ray_box_span) and traced there by [`trace`](fn@crate::trace) with the
 //! chosen [`Method`] and [`Mode`]: opaque mode keeps the first root,
 //! transparent mode every root up to `max_roots` (a fixed per-pixel buffer,
 //! [`Status::BufferFull`] beyond). At each root the surface normal
@@ -184,7 +184,7 @@ fn check_size(width: u32, height: u32) -> Result<(), RenderError> {
 /// One pixel's ray: its span in the bounding box and how tracing went.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Pixel<T> {
-    /// The span of the ray in the bounding box ([`ray_box_span`]); `None`
+    /// The span of the ray in the bounding box ([`ray_box_span`](crate::camera::ray_box_span)); `None`
     /// when the ray misses the box (it is then not traced).
     pub span: Option<[T; 2]>,
     /// The trace record: number of roots, [`Status`], point reached and
@@ -369,7 +369,7 @@ pub struct Frame<T> {
 }
 
 /// Renders `field` through `camera` inside `bounds = [min, max]`: one ray per
-/// pixel, clipped to the box by [`ray_box_span`] and traced with the
+/// pixel, clipped to the box by [`ray_box_span`](crate::camera::ray_box_span) and traced with the
 /// settings' method and mode. With the `parallel` feature rows are rendered
 /// in parallel (rayon), with a result bit-identical to [`render_serial`].
 ///
@@ -623,6 +623,26 @@ pub(crate) fn assemble<T: Real>(
 }
 
 impl<T: Real> Frame<T> {
+    /// A frame from per-pixel results computed elsewhere (the GPU host):
+    /// `pixels` row by row from the top, and the hits of pixel `i` are the
+    /// next `pixels[i].trace.roots` entries of `hits`. `None` when the
+    /// settings are invalid, the pixel count is not `width × height` or
+    /// the hit count does not match the pixels' root counts.
+    pub fn from_parts(
+        camera: Camera<T>,
+        settings: RenderSettings<T>,
+        pixels: Vec<Pixel<T>>,
+        hits: Vec<Hit<T>>,
+    ) -> Option<Self> {
+        settings.validate().ok()?;
+        let n = settings.width as usize * settings.height as usize;
+        let roots: usize = pixels.iter().map(|p| p.trace.roots as usize).sum();
+        if pixels.len() != n || roots != hits.len() {
+            return None;
+        }
+        Some(assemble(camera, settings, vec![Row { pixels, hits }]))
+    }
+
     /// Image width in pixels.
     pub fn width(&self) -> u32 {
         self.settings.width
@@ -789,6 +809,7 @@ impl<T: Real> Frame<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::camera::ray_box_span;
     use boundtrace_inclusion::FieldNum;
 
     /// The unit ball as a signed distance (Lipschitz 1).
@@ -806,6 +827,26 @@ mod tests {
 
     fn camera() -> Camera<f64> {
         Camera::framing(BOX, [0.0, 0.0, -1.0], 40.0, 1.0).unwrap()
+    }
+
+    #[test]
+    fn from_parts_rebuilds_a_frame_and_rejects_mismatches() {
+        let settings = RenderSettings::new(6, 5, Method::Segment)
+            .unwrap()
+            .with_mode(Mode::Transparent);
+        let frame = render_serial(&Ball, &camera(), BOX, &settings).unwrap();
+        let hits: Vec<Hit<f64>> = (0..5)
+            .flat_map(|y| (0..6).map(move |x| (x, y)))
+            .flat_map(|(x, y)| frame.hits(x, y).to_vec())
+            .collect();
+        assert!(!hits.is_empty());
+        let pixels = frame.pixels().to_vec();
+        let again = Frame::from_parts(camera(), settings, pixels.clone(), hits.clone()).unwrap();
+        assert_eq!(again, frame);
+        assert!(
+            Frame::from_parts(camera(), settings, pixels[1..].to_vec(), hits.clone()).is_none()
+        );
+        assert!(Frame::from_parts(camera(), settings, pixels, hits[1..].to_vec()).is_none());
     }
 
     #[test]

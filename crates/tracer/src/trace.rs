@@ -135,25 +135,52 @@ pub fn trace<T: Real, F: Field<T>>(
     params: &Params<T>,
     roots: &mut [Root<T>],
 ) -> Trace<T> {
+    let len = roots.len();
+    trace_in(field, ray, span, method, mode, params, roots, [0, len])
+}
+
+/// [`trace`](fn@trace) with the roots written to the window
+/// `roots[base..base + len]` (`window = [base, len]`) rather than to a
+/// sub-slice: a GPU shader cannot sub-slice a mutable storage buffer. A
+/// window that is empty or does not fit in `roots` gives
+/// [`Status::Unsupported`].
+#[allow(clippy::too_many_arguments)]
+pub fn trace_in<T: Real, F: Field<T>>(
+    field: &F,
+    ray: &Ray<T>,
+    span: [T; 2],
+    method: Method,
+    mode: Mode,
+    params: &Params<T>,
+    roots: &mut [Root<T>],
+    window: [usize; 2],
+) -> Trace<T> {
     let unsupported = Trace {
         roots: 0,
         status: Status::Unsupported,
         t_reached: span[0],
         stats: RayStats::default(),
     };
-    if params.validate().is_err() || !(span[0] <= span[1]) || roots.is_empty() {
+    let [base, len] = window;
+    let fits = len > 0 && base <= roots.len() && len <= roots.len() - base;
+    if params.validate().is_err() || !(span[0] <= span[1]) || !fits {
         return unsupported;
     }
+    let slots = march::RootSlots {
+        buf: roots,
+        base,
+        len,
+    };
     match method {
         Method::Interval => {
-            bisect::bisect::<T, F, bisect::ByInterval>(field, ray, span, mode, params, roots)
+            bisect::bisect::<T, F, bisect::ByInterval>(field, ray, span, mode, params, slots)
         }
         Method::Affine => {
-            bisect::bisect::<T, F, bisect::ByAffine>(field, ray, span, mode, params, roots)
+            bisect::bisect::<T, F, bisect::ByAffine>(field, ray, span, mode, params, slots)
         }
         // needs the skeleton: `scalis::trace_scalis`
         Method::ScalisQuadratic => unsupported,
-        _ => march::march(field, ray, span, method, mode, params, roots),
+        _ => march::march(field, ray, span, method, mode, params, slots),
     }
 }
 

@@ -141,7 +141,13 @@ pub fn trace_scalis<T: Real, S: AsRef<[ScalisSegment<T>]>>(
         iso: skeleton.iso(),
         ray,
     };
-    let mut w = Walk::new(roots, mode, params.eps);
+    let len = roots.len();
+    let slots = crate::march::RootSlots {
+        buf: roots,
+        base: 0,
+        len,
+    };
+    let mut w = Walk::new(slots, mode, params.eps);
     let mut out: Option<Trace<T>> = None;
     for_each_region(hits, |a, b, i, j| {
         let (a, b) = (a.max(span[0]), b.min(span[1]));

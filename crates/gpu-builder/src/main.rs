@@ -1,0 +1,58 @@
+//! Builds `crates/gpu-shader` to SPIR-V with rust-gpu and copies the module
+//! to the path given as the first argument; the optional second argument
+//! is the (absolute) target directory of the shader build;
+//! `BOUNDTRACE_SHADER_FEATURES` (comma-separated) enables shader features.
+//!
+//! Run through `scripts/build-spirv.sh`, which installs the pinned nightly
+//! and picks the output path the host crate (`boundtrace-gpu`) loads.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use spirv_builder::{ModuleResult, SpirvBuilder};
+
+fn main() -> ExitCode {
+    let mut args = std::env::args_os().skip(1);
+    let (Some(out), target_dir, None) = (args.next(), args.next(), args.next()) else {
+        eprintln!("usage: boundtrace-gpu-builder OUTPUT.spv [SHADER_TARGET_DIR]");
+        return ExitCode::FAILURE;
+    };
+    let out = PathBuf::from(out);
+    let shader = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../gpu-shader");
+    let mut builder = SpirvBuilder::new(&shader, "spirv-unknown-vulkan1.1").release(true);
+    // Extra shader-crate features, comma-separated (e.g. `trace`).
+    if let Ok(features) = std::env::var("BOUNDTRACE_SHADER_FEATURES") {
+        let list: Vec<String> = features
+            .split(',')
+            .filter(|f| !f.is_empty())
+            .map(str::to_owned)
+            .collect();
+        builder = builder.shader_crate_features(list);
+    }
+    if let Some(dir) = target_dir {
+        builder = builder.target_dir_path(PathBuf::from(dir));
+    }
+    let result = match builder.build() {
+        Ok(result) => result,
+        Err(err) => {
+            eprintln!("SPIR-V build of {} failed: {err}", shader.display());
+            return ExitCode::FAILURE;
+        }
+    };
+    let ModuleResult::SingleModule(spv) = &result.module else {
+        eprintln!("SPIR-V build produced several modules; expected one");
+        return ExitCode::FAILURE;
+    };
+    if let Some(dir) = out.parent() {
+        if let Err(err) = std::fs::create_dir_all(dir) {
+            eprintln!("cannot create {}: {err}", dir.display());
+            return ExitCode::FAILURE;
+        }
+    }
+    if let Err(err) = std::fs::copy(spv, &out) {
+        eprintln!("cannot copy {} to {}: {err}", spv.display(), out.display());
+        return ExitCode::FAILURE;
+    }
+    println!("SPIR-V module: {}", out.display());
+    ExitCode::SUCCESS
+}

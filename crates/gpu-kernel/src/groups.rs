@@ -1,0 +1,183 @@
+//! [`FlatBlobGroups`]: the sharp union of blob groups over flat data (the
+//! `blobs` scene on the GPU).
+
+use boundtrace_fields::{Blobs, PointBlob};
+use boundtrace_ia_core::Real;
+use boundtrace_inclusion::{Field, FieldNum, ForwardLinear, ForwardQuadratic, Ray};
+
+/// `f = minₙ fₙ` over blob groups `fₙ = iso − Σ blobs of group n`, stored
+/// flat: group `n` is `blobs[ends[n−1]..ends[n]]` (`ends[−1] = 0`).
+///
+/// The same field as
+/// [`UnionAll`](boundtrace_fields::density::UnionAll) of
+/// [`Blobs`] (its `eval`, Lipschitz and Taylor bounds are the same
+/// `min`/`max` folds over each group's [`Blobs`] methods), but without an
+/// array of group values, so a shader can build it over storage buffers.
+///
+/// Invariant (checked by [`new`](Self::new)): at least one group, `ends`
+/// non-decreasing and within `blobs`, every group non-empty, `iso` finite.
+#[derive(Clone, Copy, Debug)]
+pub struct FlatBlobGroups<'a, T> {
+    iso: T,
+    ends: &'a [u32],
+    blobs: &'a [PointBlob<T>],
+}
+
+impl<'a, T: Real> FlatBlobGroups<'a, T> {
+    /// The union of the groups ending at `ends` in `blobs`; `None` when
+    /// the invariant does not hold.
+    pub fn new(iso: T, ends: &'a [u32], blobs: &'a [PointBlob<T>]) -> Option<Self> {
+        let f = Self::from_parts(iso, ends, blobs);
+        f.is_valid().then_some(f)
+    }
+
+    /// The value without the check (for the shader, which must not build
+    /// an `Option` of slices): check [`is_valid`](Self::is_valid) before
+    /// use; an invalid value evaluates to NaN, never out of bounds.
+    pub fn from_parts(iso: T, ends: &'a [u32], blobs: &'a [PointBlob<T>]) -> Self {
+        Self { iso, ends, blobs }
+    }
+
+    /// Whether the invariant holds.
+    pub fn is_valid(&self) -> bool {
+        if self.ends.is_empty() || !self.iso.is_finite() {
+            return false;
+        }
+        let mut start = 0u32;
+        let mut n = 0;
+        while n < self.ends.len() {
+            if self.ends[n] <= start || self.ends[n] as usize > self.blobs.len() {
+                return false;
+            }
+            start = self.ends[n];
+            n += 1;
+        }
+        true
+    }
+
+    /// Group `n` as a blob set (`None` never happens for a value built by
+    /// [`new`](Self::new): `iso` is finite and `n` in range).
+    #[inline]
+    fn group(&self, n: usize) -> Option<Blobs<T, &'a [PointBlob<T>]>> {
+        let start = if n == 0 {
+            0
+        } else {
+            *self.ends.get(n - 1)? as usize
+        };
+        let end = *self.ends.get(n)? as usize;
+        Some(Blobs::new_unchecked(self.iso, self.blobs.get(start..end)?))
+    }
+
+    /// The field of group `n`, NaN ("no information") if it did not build.
+    #[inline]
+    fn group_eval<N: FieldNum<T>>(&self, n: usize, p: [N; 3]) -> N {
+        match self.group(n) {
+            Some(g) => g.eval(p),
+            None => N::constant(T::nan()),
+        }
+    }
+
+    /// The number of groups.
+    pub fn len(&self) -> usize {
+        self.ends.len()
+    }
+
+    /// Whether there is no group (never, by the invariant).
+    pub fn is_empty(&self) -> bool {
+        self.ends.is_empty()
+    }
+}
+
+impl<T: Real> Field<T> for FlatBlobGroups<'_, T> {
+    fn eval<N: FieldNum<T>>(&self, p: [N; 3]) -> N {
+        let mut acc = self.group_eval(0, p);
+        let mut n = 1;
+        while n < self.ends.len() {
+            acc = acc.min(self.group_eval(n, p));
+            n += 1;
+        }
+        acc
+    }
+    fn lipschitz(&self) -> Option<T> {
+        let mut l = T::ZERO;
+        let mut n = 0;
+        while n < self.ends.len() {
+            l = l.max(self.group(n)?.lipschitz()?);
+            n += 1;
+        }
+        Some(l)
+    }
+    fn taylor_linear(&self, ray: &Ray<T>, t0: T, t1: T) -> Option<ForwardLinear<T>> {
+        let mut acc = self.group(0)?.taylor_linear(ray, t0, t1)?;
+        let mut n = 1;
+        while n < self.ends.len() {
+            acc = acc.min(self.group(n)?.taylor_linear(ray, t0, t1)?);
+            n += 1;
+        }
+        Some(acc)
+    }
+    fn taylor_quadratic(&self, ray: &Ray<T>, t0: T, t1: T) -> Option<ForwardQuadratic<T>> {
+        let mut acc = self.group(0)?.taylor_quadratic(ray, t0, t1)?;
+        let mut n = 1;
+        while n < self.ends.len() {
+            acc = acc.min(self.group(n)?.taylor_quadratic(ray, t0, t1)?);
+            n += 1;
+        }
+        Some(acc)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use boundtrace_fields::Kernel;
+    use boundtrace_fields::density::UnionAll;
+
+    #[test]
+    fn equals_the_union_of_blob_sets() {
+        let k = Kernel::compact(6, 0.6f64).unwrap();
+        let b = |x: f64, y: f64| PointBlob::new([x, y, 0.0], 1.0, k).unwrap();
+        let blobs = [
+            b(-0.5, 0.0),
+            b(-0.3, 0.1),
+            b(0.4, 0.0),
+            b(0.6, -0.1),
+            b(0.5, 0.2),
+        ];
+        let flat = FlatBlobGroups::new(0.5, &[2, 5], &blobs).unwrap();
+        let union = UnionAll::new([
+            Blobs::new(0.5, &blobs[..2]).unwrap(),
+            Blobs::new(0.5, &blobs[2..]).unwrap(),
+        ])
+        .unwrap();
+        for i in 0..40 {
+            let p = [-1.0 + 0.05 * i as f64, 0.03 * i as f64 - 0.5, 0.1];
+            let (a, b): (f64, f64) = (flat.eval(p), union.eval(p));
+            assert_eq!(a, b);
+        }
+        assert_eq!(flat.lipschitz(), union.lipschitz());
+        let ray = Ray::new([-2.0, 0.05, 0.0], [1.0, 0.0, 0.0]);
+        for (t0, t1) in [(0.0, 0.5), (1.0, 1.4), (1.5, 2.5)] {
+            assert_eq!(
+                flat.taylor_linear(&ray, t0, t1),
+                union.taylor_linear(&ray, t0, t1)
+            );
+            assert_eq!(
+                flat.taylor_quadratic(&ray, t0, t1),
+                union.taylor_quadratic(&ray, t0, t1)
+            );
+        }
+        assert_eq!(flat.len(), 2);
+    }
+
+    #[test]
+    fn rejects_bad_ends() {
+        let k = Kernel::compact(6, 0.6f64).unwrap();
+        let blobs = [PointBlob::new([0.0; 3], 1.0, k).unwrap(); 3];
+        assert!(FlatBlobGroups::new(0.5, &[], &blobs).is_none());
+        assert!(FlatBlobGroups::new(0.5, &[2, 2], &blobs).is_none()); // empty group
+        assert!(FlatBlobGroups::new(0.5, &[4], &blobs).is_none()); // past the end
+        assert!(FlatBlobGroups::new(f64::NAN, &[3], &blobs).is_none());
+        assert!(FlatBlobGroups::new(0.5, &[1, 3], &blobs).is_some());
+    }
+}

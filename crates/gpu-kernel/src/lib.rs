@@ -1,0 +1,513 @@
+//! The per-pixel kernel of boundtrace's GPU path, shared by the SPIR-V
+//! compute shader (`crates/gpu-shader`, thin `#[spirv(compute)]` wrappers
+//! around [`render_pixel`]) and the wgpu host (`boundtrace-gpu`), which
+//! fills [`Constants`] and the scene buffers and reads [`PixelOut`] and
+//! [`HitOut`] back.
+//!
+//! Nothing here re-implements tracing: [`render_pixel`] builds the scene's
+//! field over the flat buffers (a [`BlobtreeRef`], a [`Blobs`] over a
+//! `&[PointBlob<f32>]` or a [`FlatBlobGroups`]) and calls the tracer's
+//! `trace_pixel_in` and [`normal`], the same functions the CPU renderer
+//! calls ([`trace_pixel_in`] is [`trace_pixel`](boundtrace_tracer::pixel::trace_pixel)
+//! with the root buffer as a window). Scenes are data: editing one never recompiles the shader.
+//!
+//! ```
+//! use boundtrace_fields::{Kernel, PointBlob};
+//! use boundtrace_gpu_kernel::{Constants, HitOut, SceneKind, render_pixel};
+//! use boundtrace_tracer::camera::Camera;
+//! use boundtrace_tracer::pixel::PixelSetup;
+//! use boundtrace_tracer::{Method, Mode, Params, Root, Side};
+//!
+//! let k = Kernel::compact(6, 0.5f32)?;
+//! let blobs = [PointBlob::new([0.0, 0.0, 0.0], 1.0, k)?];
+//! let bounds = [[-0.6f32; 3], [0.6; 3]];
+//! let setup = PixelSetup {
+//!     camera: Camera::framing(bounds, [0.0, 0.0, -1.0], 40.0, 1.0)?,
+//!     bounds,
+//!     width: 8,
+//!     height: 8,
+//!     method: Method::Segment,
+//!     mode: Mode::Opaque,
+//!     params: Params::new(),
+//! };
+//! let c = Constants::new(&setup, SceneKind::Blobs, 0.5, 1, 0);
+//! let mut roots = [Root { t: 0.0, side: Side::Touch }; 1];
+//! let mut hits = [HitOut::default(); 1];
+//! let out = render_pixel(&c, &[], &[], &blobs, 4, 4, &mut roots, &mut hits, 0);
+//! assert_eq!(out.roots, 1); // the centre pixel hits the blob
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+#![cfg_attr(not(feature = "std"), no_std)]
+// `!(a < b)` is deliberate: it is also true for NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+#[cfg(all(not(feature = "std"), not(feature = "libm")))]
+compile_error!("boundtrace-gpu-kernel needs the `std` or the `libm` feature for its math");
+
+mod groups;
+
+pub use groups::FlatBlobGroups;
+
+#[cfg(not(target_arch = "spirv"))]
+use boundtrace_fields::blobtree::BlobtreeRef;
+use boundtrace_fields::{Blobs, PointBlob};
+use boundtrace_inclusion::Field;
+#[cfg(test)]
+use boundtrace_tracer::Side;
+use boundtrace_tracer::camera::{Camera, Projection};
+use boundtrace_tracer::pixel::{PixelSetup, trace_pixel_in};
+use boundtrace_tracer::{Method, Mode, Params, Root, Status, normal};
+
+/// The largest per-pixel root buffer of the GPU (transparent mode): a
+/// fixed-size local array in the shader.
+pub const MAX_GPU_ROOTS: u32 = 8;
+
+/// Threads per workgroup along x and y (an 8 × 8 tile of pixels).
+pub const WORKGROUP: u32 = 8;
+
+/// Which field [`render_pixel`] builds over the scene buffers
+/// (`#[repr(u32)]`, stored in [`Constants::scene`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[repr(u32)]
+pub enum SceneKind {
+    /// A flat blobtree: node words in the `u32` buffer, parameters in the
+    /// `f32` buffer ([`BlobtreeRef::new`] validates them).
+    Blobtree = 0,
+    /// One summed blob set over the blob buffer, with [`Constants::iso`].
+    Blobs = 1,
+    /// The sharp union of blob groups ([`FlatBlobGroups`]): group ends in
+    /// the `u32` buffer, blobs in the blob buffer.
+    BlobGroups = 2,
+}
+
+impl SceneKind {
+    /// The kind of a code, `None` for an unknown one.
+    pub const fn from_code(code: u32) -> Option<Self> {
+        match code {
+            0 => Some(Self::Blobtree),
+            1 => Some(Self::Blobs),
+            2 => Some(Self::BlobGroups),
+            _ => None,
+        }
+    }
+}
+
+/// The frame's constants, as uploaded (plain `u32`/`f32` words, `#[repr(C)]`,
+/// no padding: 35 words).
+///
+/// Enums travel as their `#[repr(u32)]` codes; [`Constants::setup`]
+/// decodes them (an unknown code gives `None`, and the pixel is reported
+/// [`Status::Unsupported`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C)]
+pub struct Constants {
+    /// [`Camera::eye`].
+    pub eye: [f32; 3],
+    /// [`Camera::right`].
+    pub right: [f32; 3],
+    /// [`Camera::up`].
+    pub up: [f32; 3],
+    /// [`Camera::forward`].
+    pub forward: [f32; 3],
+    /// [`Camera::scale`].
+    pub scale: [f32; 2],
+    /// [`Camera::projection`] code.
+    pub projection: u32,
+    /// Scene box minimum.
+    pub bounds_lo: [f32; 3],
+    /// Scene box maximum.
+    pub bounds_hi: [f32; 3],
+    /// [`Params::eps`].
+    pub eps: f32,
+    /// [`Params::min_step`].
+    pub min_step: f32,
+    /// [`Params::omega`].
+    pub omega: f32,
+    /// [`Params::k`].
+    pub k: f32,
+    /// [`Params::max_steps`].
+    pub max_steps: u32,
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// [`Method`] code.
+    pub method: u32,
+    /// [`Mode`] code.
+    pub mode: u32,
+    /// Root slots per pixel (`1..=`[`MAX_GPU_ROOTS`]; opaque mode uses one).
+    pub max_roots: u32,
+    /// [`SceneKind`] code.
+    pub scene: u32,
+    /// The iso-value of the blob scenes.
+    pub iso: f32,
+    /// The number of blob groups ([`SceneKind::BlobGroups`]).
+    pub groups: u32,
+    /// Unused; `0`.
+    pub reserved: u32,
+}
+
+impl Constants {
+    /// The constants of a frame: `setup`, the scene kind, the blob scenes'
+    /// iso-value and group count, and `max_roots` (clamped to
+    /// `1..=`[`MAX_GPU_ROOTS`]).
+    pub fn new(
+        setup: &PixelSetup<f32>,
+        scene: SceneKind,
+        iso: f32,
+        max_roots: u32,
+        groups: u32,
+    ) -> Self {
+        let c = &setup.camera;
+        let p = &setup.params;
+        Self {
+            eye: c.eye,
+            right: c.right,
+            up: c.up,
+            forward: c.forward,
+            scale: c.scale,
+            projection: c.projection as u32,
+            bounds_lo: setup.bounds[0],
+            bounds_hi: setup.bounds[1],
+            eps: p.eps,
+            min_step: p.min_step,
+            omega: p.omega,
+            k: p.k,
+            max_steps: p.max_steps,
+            width: setup.width,
+            height: setup.height,
+            method: setup.method as u32,
+            mode: setup.mode as u32,
+            max_roots: max_roots.clamp(1, MAX_GPU_ROOTS),
+            scene: scene as u32,
+            iso,
+            groups,
+            reserved: 0,
+        }
+    }
+
+    /// The constants as `u32` words in field order (for the upload).
+    pub fn to_words(&self) -> [u32; 35] {
+        let f = |x: f32| x.to_bits();
+        let [e, r, u, fw] = [self.eye, self.right, self.up, self.forward];
+        let (lo, hi) = (self.bounds_lo, self.bounds_hi);
+        [
+            f(e[0]),
+            f(e[1]),
+            f(e[2]),
+            f(r[0]),
+            f(r[1]),
+            f(r[2]),
+            f(u[0]),
+            f(u[1]),
+            f(u[2]),
+            f(fw[0]),
+            f(fw[1]),
+            f(fw[2]),
+            f(self.scale[0]),
+            f(self.scale[1]),
+            self.projection,
+            f(lo[0]),
+            f(lo[1]),
+            f(lo[2]),
+            f(hi[0]),
+            f(hi[1]),
+            f(hi[2]),
+            f(self.eps),
+            f(self.min_step),
+            f(self.omega),
+            f(self.k),
+            self.max_steps,
+            self.width,
+            self.height,
+            self.method,
+            self.mode,
+            self.max_roots,
+            self.scene,
+            f(self.iso),
+            self.groups,
+            self.reserved,
+        ]
+    }
+
+    /// The tracer's view of the constants; `None` for an unknown method,
+    /// mode or projection code.
+    pub fn setup(&self) -> Option<PixelSetup<f32>> {
+        self.codes_valid().then(|| self.decode())
+    }
+
+    /// Whether the method, mode and projection codes are known.
+    pub fn codes_valid(&self) -> bool {
+        self.projection <= 1 && self.mode <= 1 && Method::from_code(self.method).is_some()
+    }
+
+    /// The tracer's view of the constants, unknown codes read as the first
+    /// value of their enum (check [`codes_valid`](Self::codes_valid) first).
+    /// Option-free, so that the shader never moves a niche-encoded value.
+    pub fn decode(&self) -> PixelSetup<f32> {
+        let projection = if self.projection == 1 {
+            Projection::Orthographic
+        } else {
+            Projection::Perspective
+        };
+        let mode = if self.mode == 1 {
+            Mode::Transparent
+        } else {
+            Mode::Opaque
+        };
+        let method = match Method::from_code(self.method) {
+            Some(m) => m,
+            None => Method::Sphere,
+        };
+        PixelSetup {
+            camera: Camera {
+                eye: self.eye,
+                right: self.right,
+                up: self.up,
+                forward: self.forward,
+                scale: self.scale,
+                projection,
+            },
+            bounds: [self.bounds_lo, self.bounds_hi],
+            width: self.width,
+            height: self.height,
+            method,
+            mode,
+            params: Params {
+                eps: self.eps,
+                min_step: self.min_step,
+                omega: self.omega,
+                k: self.k,
+                max_steps: self.max_steps,
+            },
+        }
+    }
+}
+
+/// One pixel's result (`#[repr(C)]`, 9 words): the trace record and the
+/// ray's span in the box.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C)]
+pub struct PixelOut {
+    /// `1` when the ray meets the box (then `span` is set), else `0`.
+    pub has_span: u32,
+    /// The span `[t0, t1]` of the ray in the box.
+    pub span: [f32; 2],
+    /// Roots written to the pixel's hits (≤ `max_roots`).
+    pub roots: u32,
+    /// The [`Status`] code.
+    pub status: u32,
+    /// [`Trace::t_reached`](boundtrace_tracer::Trace::t_reached).
+    pub t_reached: f32,
+    /// [`RayStats::steps`](boundtrace_tracer::RayStats::steps).
+    pub steps: u32,
+    /// [`RayStats::field_evals`](boundtrace_tracer::RayStats::field_evals).
+    pub field_evals: u32,
+    /// [`RayStats::bound_evals`](boundtrace_tracer::RayStats::bound_evals).
+    pub bound_evals: u32,
+}
+
+/// One root of a pixel with the surface normal there (`#[repr(C)]`, 5
+/// words).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C)]
+pub struct HitOut {
+    /// The ray parameter (the depth along the unit-speed camera ray).
+    pub t: f32,
+    /// The [`Side`](boundtrace_tracer::Side) code.
+    pub side: u32,
+    /// The unit normal ([`normal`]).
+    pub normal: [f32; 3],
+}
+
+/// An unsupported pixel (bad constants or scene data): nothing traced.
+const fn unsupported() -> PixelOut {
+    PixelOut {
+        has_span: 0,
+        span: [0.0; 2],
+        roots: 0,
+        status: Status::Unsupported as u32,
+        t_reached: 0.0,
+        steps: 0,
+        field_evals: 0,
+        bound_evals: 0,
+    }
+}
+
+/// Traces pixel `(x, y)` of the frame described by `c` over the scene
+/// buffers (`words`: blobtree node words or blob-group ends; `floats`:
+/// blobtree parameters; `blobs`: the blob scenes' blobs), with
+/// `roots[base..base + c.max_roots]` as its root buffer, writing its roots
+/// and normals to `hits[base..base + c.max_roots]` and returning the trace
+/// record. A `roots` too short gives [`Status::Unsupported`]; hit indices
+/// past the end of `hits` are not written.
+///
+/// Bad constants or scene data (unknown codes, a blobtree that does not
+/// validate, bad group ends) give [`Status::Unsupported`] with nothing
+/// traced.
+#[allow(clippy::too_many_arguments)]
+pub fn render_pixel(
+    c: &Constants,
+    words: &[u32],
+    floats: &[f32],
+    blobs: &[PointBlob<f32>],
+    x: u32,
+    y: u32,
+    roots: &mut [Root<f32>],
+    hits: &mut [HitOut],
+    base: usize,
+) -> PixelOut {
+    if !c.codes_valid() {
+        return unsupported();
+    }
+    let setup = c.decode();
+    match SceneKind::from_code(c.scene) {
+        // Blobtree decoding builds `FieldError` values (with `&'static str`
+        // messages), which rust-gpu 0.11 cannot compile: CPU only for now.
+        #[cfg(not(target_arch = "spirv"))]
+        Some(SceneKind::Blobtree) => match BlobtreeRef::new(words, floats) {
+            Ok(tree) => pixel(&tree, &setup, c.max_roots, x, y, roots, hits, base),
+            Err(_) => unsupported(),
+        },
+        Some(SceneKind::Blobs) if c.iso.is_finite() => {
+            let field = Blobs::new_unchecked(c.iso, blobs);
+            pixel(&field, &setup, c.max_roots, x, y, roots, hits, base)
+        }
+        Some(SceneKind::Blobs) => unsupported(),
+        Some(SceneKind::BlobGroups) => {
+            if c.groups as usize > words.len() {
+                return unsupported();
+            }
+            let field = FlatBlobGroups::from_parts(c.iso, &words[..c.groups as usize], blobs);
+            if field.is_valid() {
+                pixel(&field, &setup, c.max_roots, x, y, roots, hits, base)
+            } else {
+                unsupported()
+            }
+        }
+        #[cfg(target_arch = "spirv")]
+        Some(SceneKind::Blobtree) => unsupported(),
+        None => unsupported(),
+    }
+}
+
+/// [`trace_pixel_in`] on this pixel's window of the root buffer, then the hits.
+#[allow(clippy::too_many_arguments)]
+fn pixel<F: Field<f32>>(
+    field: &F,
+    setup: &PixelSetup<f32>,
+    max_roots: u32,
+    x: u32,
+    y: u32,
+    roots: &mut [Root<f32>],
+    hits: &mut [HitOut],
+    base: usize,
+) -> PixelOut {
+    // The root buffer is this pixel's window of a storage buffer: rust-gpu
+    // can neither sub-slice a mutable storage buffer nor turn a local array
+    // into a slice.
+    let n = if max_roots == 0 {
+        1
+    } else {
+        max_roots as usize
+    };
+    let px = trace_pixel_in(field, setup, x, y, roots, [base, n]);
+    let mut i = 0usize;
+    while i < px.trace.roots as usize {
+        let root = roots[base + i];
+        let o = px.ray.origin;
+        let d = px.ray.dir;
+        let p = [
+            o[0] + root.t * d[0],
+            o[1] + root.t * d[1],
+            o[2] + root.t * d[2],
+        ];
+        if base + i < hits.len() {
+            hits[base + i] = HitOut {
+                t: root.t,
+                side: root.side as u32,
+                normal: normal(field, p),
+            };
+        }
+        i += 1;
+    }
+    let (has_span, span) = match px.span {
+        Some(s) => (1, s),
+        None => (0, [0.0; 2]),
+    };
+    PixelOut {
+        has_span,
+        span,
+        roots: px.trace.roots,
+        status: px.trace.status as u32,
+        t_reached: px.trace.t_reached,
+        steps: px.trace.stats.steps,
+        field_evals: px.trace.stats.field_evals,
+        bound_evals: px.trace.stats.bound_evals,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn constants_round_trip_through_setup() {
+        let bounds = [[-1.0f32; 3], [1.0; 3]];
+        let setup = PixelSetup {
+            camera: Camera::framing(bounds, [0.3, -0.2, -1.0], 35.0, 1.5).unwrap(),
+            bounds,
+            width: 12,
+            height: 8,
+            method: Method::QuadraticMixed,
+            mode: Mode::Transparent,
+            params: Params::new().with_k(3.0).unwrap(),
+        };
+        let c = Constants::new(&setup, SceneKind::BlobGroups, 0.5, 99, 4);
+        assert_eq!(c.setup(), Some(setup));
+        assert_eq!(c.max_roots, MAX_GPU_ROOTS);
+        let w = c.to_words();
+        assert_eq!(core::mem::size_of::<Constants>(), 35 * 4);
+        assert_eq!(w[28], Method::QuadraticMixed as u32);
+        assert_eq!(f32::from_bits(w[32]), 0.5);
+        let bad = Constants { method: 77, ..c };
+        assert_eq!(bad.setup(), None);
+        let mut hits = [HitOut::default(); 1];
+        let mut roots = [Root {
+            t: 0.0,
+            side: Side::Touch,
+        }; 1];
+        let out = render_pixel(&bad, &[], &[], &[], 0, 0, &mut roots, &mut hits, 0);
+        assert_eq!(out.status, Status::Unsupported as u32);
+    }
+
+    #[test]
+    fn bad_scene_data_is_unsupported() {
+        let bounds = [[-1.0f32; 3], [1.0; 3]];
+        let setup = PixelSetup {
+            camera: Camera::framing(bounds, [0.0, 0.0, -1.0], 35.0, 1.0).unwrap(),
+            bounds,
+            width: 4,
+            height: 4,
+            method: Method::Segment,
+            mode: Mode::Opaque,
+            params: Params::new(),
+        };
+        let mut hits = [HitOut::default(); 1];
+        let mut roots = [Root {
+            t: 0.0,
+            side: Side::Touch,
+        }; 1];
+        // A blobtree with an odd word count does not validate.
+        let c = Constants::new(&setup, SceneKind::Blobtree, 0.0, 1, 0);
+        let out = render_pixel(&c, &[1, 2, 3], &[], &[], 1, 1, &mut roots, &mut hits, 0);
+        assert_eq!(out.status, Status::Unsupported as u32);
+        // More groups than words.
+        let c = Constants::new(&setup, SceneKind::BlobGroups, 0.5, 1, 3);
+        let out = render_pixel(&c, &[1], &[], &[], 1, 1, &mut roots, &mut hits, 0);
+        assert_eq!(out.status, Status::Unsupported as u32);
+        let c = Constants { scene: 9, ..c };
+        let out = render_pixel(&c, &[], &[], &[], 1, 1, &mut roots, &mut hits, 0);
+        assert_eq!(out.status, Status::Unsupported as u32);
+    }
+}

@@ -1,0 +1,64 @@
+//! boundtrace's SPIR-V compute shader: thin `#[spirv(compute)]` entry
+//! points over [`boundtrace_gpu_kernel::render_pixel`], which calls the
+//! tracer's own per-pixel code. Built by `scripts/build-spirv.sh` with the
+//! pinned rust-gpu nightly; the host (`boundtrace-gpu`) loads the module.
+//!
+//! Entry points: `interval_square` (the toolchain probe: ia-core interval
+//! arithmetic on the GPU, always built) and `trace_pixels` (feature
+//! `trace`; build with `BOUNDTRACE_SHADER_FEATURES=trace
+//! scripts/build-spirv.sh` — it does not compile yet, see its docs).
+#![cfg_attr(target_arch = "spirv", no_std)]
+
+#[cfg(feature = "trace")]
+use boundtrace_fields::PointBlob;
+#[cfg(feature = "trace")]
+use boundtrace_gpu_kernel::{Constants, HitOut, PixelOut, render_pixel};
+use boundtrace_ia_core::Interval;
+#[cfg(feature = "trace")]
+use boundtrace_tracer::Root;
+use spirv_std::glam::UVec3;
+use spirv_std::spirv;
+
+/// Toolchain probe: `data[i] ← hi([data[i], data[i] + 1]²)` in the
+/// crate's outward-rounded interval arithmetic.
+#[spirv(compute(threads(64)))]
+pub fn interval_square(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] data: &mut [f32],
+) {
+    let i = id.x as usize;
+    if i < data.len() {
+        let x = Interval::new(data[i], data[i] + 1.0);
+        data[i] = x.sqr().hi();
+    }
+}
+
+/// One invocation per pixel, 8 × 8 per workgroup: traces pixel
+/// `(id.x, id.y)` and writes its record and hits.
+///
+/// Behind the `trace` feature: rust-gpu 0.11 does not compile the tracer
+/// yet (it rejects moves of `Option`/`Result` values holding bounds in
+/// `boundtrace_tracer::march`: "cannot memcpy dynamically sized data").
+#[cfg(feature = "trace")]
+#[spirv(compute(threads(8, 8)))]
+pub fn trace_pixels(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] constants: &Constants,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] words: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] floats: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] blobs: &[PointBlob<f32>],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] pixels: &mut [PixelOut],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] hits: &mut [HitOut],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] roots: &mut [Root<f32>],
+) {
+    let c = *constants;
+    if id.x >= c.width || id.y >= c.height {
+        return;
+    }
+    let i = (id.y * c.width + id.x) as usize;
+    let base = i * c.max_roots as usize;
+    let out = render_pixel(&c, words, floats, blobs, id.x, id.y, roots, hits, base);
+    if i < pixels.len() {
+        pixels[i] = out;
+    }
+}

@@ -1,0 +1,86 @@
+//! GPU (SPIR-V on wgpu) vs CPU render time for a few scenes and methods.
+//! Needs the `trace_pixels` entry point (`BOUNDTRACE_SHADER_FEATURES=trace
+//! scripts/build-spirv.sh`), which rust-gpu 0.11 does not compile yet.
+//!
+//! ```text
+//! scripts/build-spirv.sh
+//! cargo run --release -p boundtrace-gpu --example gpu_vs_cpu -- [SIZE] [REPEATS]
+//! ```
+//!
+//! Prints, per scene × method, the best of `REPEATS` (default 3) wall-clock
+//! times of a `SIZE × SIZE` (default 128) frame: the single-threaded CPU
+//! renderer (`render_serial`, f32) and the GPU (upload, dispatch, read-back
+//! and frame assembly included; the pipeline is built once before), and
+//! their ratio. Also checks that both frames agree on hit/miss.
+
+use boundtrace_gpu::{GpuScene, GpuTracer};
+use boundtrace_tracer::Method;
+use boundtrace_tracer::camera::Camera;
+use boundtrace_tracer::render::{RenderSettings, render_serial};
+use boundtrace_tracer::scenes::{DEFAULT_SEED, Scene};
+use std::time::Instant;
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let mut args = std::env::args().skip(1);
+    let size: u32 = args.next().map(|s| s.parse()).transpose()?.unwrap_or(128);
+    let repeats: u32 = args
+        .next()
+        .map(|s| s.parse())
+        .transpose()?
+        .unwrap_or(3)
+        .max(1);
+    let t = Instant::now();
+    let gpu = GpuTracer::new()?;
+    let info = gpu.adapter_info();
+    println!(
+        "adapter: {} ({:?}, {:?}); pipeline built in {:.2} s; {size}x{size}, best of {repeats}",
+        info.name,
+        info.device_type,
+        info.backend,
+        t.elapsed().as_secs_f64()
+    );
+    println!("| scene | method | CPU 1 thread (ms) | GPU (ms) | CPU / GPU | hit/miss agree |");
+    println!("| --- | --- | ---: | ---: | ---: | ---: |");
+    for name in ["blobs", "blobs-sum"] {
+        let scene = Scene::<f32>::build(name, DEFAULT_SEED)?;
+        let data = GpuScene::from_scene(&scene)?;
+        let camera = Camera::framing(scene.bounds(), [0.3, -0.4, -1.0], 40.0, 1.0)?;
+        for method in [
+            Method::Segment,
+            Method::QuadraticBottomUp,
+            Method::QuadraticMixed,
+        ] {
+            let settings = RenderSettings::new(size, size, method)?;
+            let (mut best_cpu, mut best_gpu) = (f64::INFINITY, f64::INFINITY);
+            let (mut cpu_frame, mut gpu_frame) = (None, None);
+            for _ in 0..repeats {
+                let t = Instant::now();
+                cpu_frame = Some(render_serial(
+                    scene.field(),
+                    &camera,
+                    scene.bounds(),
+                    &settings,
+                )?);
+                best_cpu = best_cpu.min(t.elapsed().as_secs_f64());
+                let t = Instant::now();
+                gpu_frame = Some(gpu.render(&data, &camera, &settings)?);
+                best_gpu = best_gpu.min(t.elapsed().as_secs_f64());
+            }
+            let (c, g) = (cpu_frame.unwrap(), gpu_frame.unwrap());
+            let mut agree = 0;
+            for y in 0..size {
+                for x in 0..size {
+                    agree += usize::from(c.hits(x, y).is_empty() == g.hits(x, y).is_empty());
+                }
+            }
+            println!(
+                "| {name} | {method} | {:.1} | {:.1} | {:.2} | {:.2} % |",
+                best_cpu * 1e3,
+                best_gpu * 1e3,
+                best_cpu / best_gpu,
+                100.0 * agree as f64 / (size * size) as f64
+            );
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,827 @@
+//! The wgpu host of boundtrace's GPU path: runs the tracer, compiled to
+//! SPIR-V by rust-gpu (`crates/gpu-shader`, built by
+//! `scripts/build-spirv.sh`), on a Vulkan adapter (lavapipe in CI, any GPU
+//! for users), and returns the same [`Frame`] type as the CPU renderer.
+//!
+//! The shader is a thin wrapper: each invocation calls
+//! [`boundtrace_gpu_kernel::render_pixel`], which calls the tracer's
+//! [`trace_pixel`](boundtrace_tracer::pixel::trace_pixel) and
+//! [`normal`](boundtrace_tracer::normal) over the scene's flat data — the
+//! same code the CPU runs. Scenes are buffers ([`GpuScene`]), so a new
+//! scene never recompiles the shader.
+//!
+//! ```no_run
+//! use boundtrace_gpu::{GpuScene, GpuTracer};
+//! use boundtrace_tracer::Method;
+//! use boundtrace_tracer::camera::Camera;
+//! use boundtrace_tracer::render::RenderSettings;
+//! use boundtrace_tracer::scenes::{DEFAULT_SEED, Scene};
+//!
+//! let gpu = GpuTracer::new()?; // needs a Vulkan adapter and the built module
+//! let scene = Scene::<f32>::build("blobs", DEFAULT_SEED)?;
+//! let data = GpuScene::from_scene(&scene)?;
+//! let camera = Camera::framing(scene.bounds(), [0.0, 0.0, -1.0], 40.0, 1.0)?;
+//! let settings = RenderSettings::new(64, 64, Method::QuadraticMixed)?;
+//! let frame = gpu.render(&data, &camera, &settings)?;
+//! frame.shaded_image().write_png("blobs-gpu.png")?;
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! **Status**: the toolchain works end to end ([`interval_probe`] runs
+//! `boundtrace-ia-core` interval code compiled by rust-gpu on lavapipe,
+//! bit-identical to the CPU), but the tracer itself does not compile to
+//! SPIR-V with rust-gpu 0.11 yet (it rejects moves of `Option`/`Result`
+//! values holding bounds in `boundtrace_tracer::march`), so the module has
+//! no `trace_pixels` entry point unless built with
+//! `BOUNDTRACE_SHADER_FEATURES=trace`, and [`GpuTracer::new`] reports that.
+//!
+//! Limits: `f32` only; the per-pixel root buffer of transparent mode holds
+//! [`MAX_GPU_ROOTS`] roots (more is a [`GpuError::MaxRoots`]); scenes with
+//! flat GPU data are the blob scenes (`blobs`, `blobs-sum`) — see
+//! [`GpuScene::from_scene`].
+//!
+//! # Soundness on a GPU
+//! The interval code rounds outward by one float step after each operation,
+//! assuming correctly rounded `+ − × ÷` and preserved subnormals. Vulkan
+//! only requires `÷` to 2.5 ULP and allows subnormals to be flushed; lavapipe
+//! (LLVM on the CPU) rounds correctly, which the difftests check. On other
+//! drivers the bounds may be off by a few ULP.
+
+use boundtrace_fields::PointBlob;
+use boundtrace_gpu_kernel::{Constants, HitOut, PixelOut, WORKGROUP};
+pub use boundtrace_gpu_kernel::{MAX_GPU_ROOTS, SceneKind};
+use boundtrace_tracer::camera::Camera;
+use boundtrace_tracer::pixel::PixelSetup;
+use boundtrace_tracer::render::{Frame, Hit, Pixel, RenderError, RenderSettings};
+use boundtrace_tracer::scenes::{Scene, SceneField};
+use boundtrace_tracer::{Mode, RayStats, Side, Status, Trace};
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// The command that builds the SPIR-V module (run from the repository root).
+pub const BUILD_COMMAND: &str = "scripts/build-spirv.sh";
+
+/// The environment variable naming the SPIR-V module explicitly.
+pub const SPV_ENV: &str = "BOUNDTRACE_GPU_SPV";
+
+/// The compute entry point that traces pixels.
+const ENTRY: &str = "trace_pixels";
+
+/// An error of the GPU path.
+#[derive(Debug)]
+pub enum GpuError {
+    /// No usable adapter (no Vulkan driver: install one, e.g. lavapipe,
+    /// `apt-get install mesa-vulkan-drivers libvulkan1`).
+    NoAdapter(String),
+    /// The adapter refused to create a device.
+    Device(String),
+    /// The SPIR-V module is not at `path`; build it with [`BUILD_COMMAND`].
+    ShaderMissing {
+        /// Where it was looked for.
+        path: PathBuf,
+    },
+    /// The SPIR-V module could not be read or was rejected.
+    Shader(String),
+    /// The scene has no flat GPU data.
+    UnsupportedScene(String),
+    /// Invalid render settings or bounds.
+    Render(RenderError),
+    /// Transparent mode asks for more than [`MAX_GPU_ROOTS`] roots per pixel.
+    MaxRoots(u32),
+    /// Running the shader or reading its results failed.
+    Dispatch(String),
+}
+
+impl fmt::Display for GpuError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            GpuError::NoAdapter(e) => write!(
+                f,
+                "gpu: no usable adapter ({e}); install a Vulkan driver \
+                 (e.g. lavapipe: apt-get install mesa-vulkan-drivers libvulkan1)"
+            ),
+            GpuError::Device(e) => write!(f, "gpu: cannot create a device: {e}"),
+            GpuError::ShaderMissing { path } => write!(
+                f,
+                "gpu: the SPIR-V module {} is missing; build it with `{BUILD_COMMAND}` \
+                 (or set {SPV_ENV})",
+                path.display()
+            ),
+            GpuError::Shader(e) => write!(f, "gpu: bad SPIR-V module: {e}"),
+            GpuError::UnsupportedScene(e) => write!(f, "gpu: {e}"),
+            GpuError::Render(e) => write!(f, "gpu: {e}"),
+            GpuError::MaxRoots(n) => write!(
+                f,
+                "gpu: transparent mode keeps at most {MAX_GPU_ROOTS} roots per pixel, {n} asked"
+            ),
+            GpuError::Dispatch(e) => write!(f, "gpu: dispatch failed: {e}"),
+        }
+    }
+}
+
+impl std::error::Error for GpuError {}
+
+impl From<RenderError> for GpuError {
+    fn from(e: RenderError) -> Self {
+        GpuError::Render(e)
+    }
+}
+
+/// Where [`GpuTracer::new`] looks for the module: `$BOUNDTRACE_GPU_SPV`,
+/// else `$CARGO_TARGET_DIR/spirv/boundtrace-gpu-shader.spv` (the target
+/// dir at run time, else at compile time, else the repository's
+/// `target/`), as written by [`BUILD_COMMAND`].
+pub fn default_spirv_path() -> PathBuf {
+    if let Some(p) = std::env::var_os(SPV_ENV) {
+        return PathBuf::from(p);
+    }
+    let repo = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let target = std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .or_else(|| option_env!("CARGO_TARGET_DIR").map(PathBuf::from))
+        .map(|t| if t.is_absolute() { t } else { repo.join(t) })
+        .unwrap_or_else(|| repo.join("target"));
+    target.join("spirv").join("boundtrace-gpu-shader.spv")
+}
+
+/// A scene as GPU buffers: blobtree node words and parameters, or blobs
+/// (with group ends for a union of groups), and its bounding box.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GpuScene {
+    kind: SceneKind,
+    bounds: [[f32; 3]; 2],
+    words: Vec<u32>,
+    floats: Vec<f32>,
+    blobs: Vec<PointBlob<f32>>,
+    iso: f32,
+    groups: u32,
+}
+
+impl GpuScene {
+    /// The flat data of a standard scene: `blobs` (union of blob groups)
+    /// and `blobs-sum` (one blob set).
+    ///
+    /// # Errors
+    /// [`GpuError::UnsupportedScene`] for the other scenes: `molecule`
+    /// (its grid Lipschitz bound has no GPU data yet), the HRBF and SCALIS
+    /// scenes (no flat field yet), the blobtrees (their decoding does not
+    /// compile with rust-gpu 0.11).
+    pub fn from_scene(scene: &Scene<f32>) -> Result<Self, GpuError> {
+        let bounds = scene.bounds();
+        let unsupported = |why: &str| {
+            Err(GpuError::UnsupportedScene(format!(
+                "scene `{}` has no GPU data: {why}",
+                scene.name()
+            )))
+        };
+        let mut s = Self {
+            kind: SceneKind::Blobs,
+            bounds,
+            words: Vec::new(),
+            floats: Vec::new(),
+            blobs: Vec::new(),
+            iso: 0.0,
+            groups: 0,
+        };
+        match scene.field() {
+            SceneField::Blobs(b) => {
+                s.iso = b.iso();
+                s.blobs = b.blobs().to_vec();
+            }
+            SceneField::BlobGroups(u) => {
+                s.kind = SceneKind::BlobGroups;
+                let children = u.children();
+                let Some(first) = children.first() else {
+                    return unsupported("a union without groups");
+                };
+                s.iso = first.iso();
+                for g in children {
+                    if g.iso() != s.iso {
+                        return unsupported("groups with different iso-values");
+                    }
+                    s.blobs.extend_from_slice(g.blobs());
+                    s.words.push(s.blobs.len() as u32);
+                }
+                s.groups = children.len() as u32;
+            }
+            SceneField::Blobtree(_) => {
+                return unsupported(
+                    "blobtree decoding builds `FieldError` values (`&'static str` \
+                     messages), which rust-gpu 0.11 cannot compile",
+                );
+            }
+            SceneField::Molecule(_) => {
+                return unsupported("its grid Lipschitz bound is not uploaded yet");
+            }
+            SceneField::Hrbf(_) => return unsupported("HRBF has no flat GPU field yet"),
+            SceneField::Scalis(_) => return unsupported("SCALIS has no flat GPU field yet"),
+        }
+        Ok(s)
+    }
+
+    /// The kind of field the shader builds.
+    pub fn kind(&self) -> SceneKind {
+        self.kind
+    }
+
+    /// The box enclosing the surface.
+    pub fn bounds(&self) -> [[f32; 3]; 2] {
+        self.bounds
+    }
+}
+
+/// `PointBlob<f32>` as the shader reads it (`#[repr(C)]`: center, weight,
+/// kernel kind, degree, σ).
+fn blob_words(blobs: &[PointBlob<f32>]) -> Vec<u32> {
+    let mut w = Vec::with_capacity(blobs.len() * 7);
+    for b in blobs {
+        let c = b.center();
+        let k = b.kernel();
+        w.extend_from_slice(&[
+            c[0].to_bits(),
+            c[1].to_bits(),
+            c[2].to_bits(),
+            b.weight().to_bits(),
+            k.kind() as u32,
+            k.degree(),
+            k.sigma().to_bits(),
+        ]);
+    }
+    w
+}
+
+/// A wgpu device with the tracing pipeline.
+pub struct GpuTracer {
+    adapter: wgpu::AdapterInfo,
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    pipeline: wgpu::ComputePipeline,
+}
+
+impl fmt::Debug for GpuTracer {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("GpuTracer")
+            .field("adapter", &self.adapter.name)
+            .field("backend", &self.adapter.backend)
+            .finish()
+    }
+}
+
+const STORAGE_ENTRIES: [(u32, bool); 6] = [
+    (0, true),
+    (1, true),
+    (2, true),
+    (3, true),
+    (4, false),
+    (5, false),
+];
+
+impl GpuTracer {
+    /// Selects an adapter (high-performance preference; `WGPU_BACKEND`
+    /// and the other wgpu environment variables apply), creates a device
+    /// and loads the module from [`default_spirv_path`].
+    ///
+    /// # Errors
+    /// [`GpuError::ShaderMissing`] (naming [`BUILD_COMMAND`]) when the module
+    /// is absent; [`GpuError::NoAdapter`] without a usable adapter; device
+    /// or shader errors.
+    pub fn new() -> Result<Self, GpuError> {
+        Self::with_spirv(&load_module()?)
+    }
+
+    /// As [`new`](Self::new), with the module's bytes given.
+    ///
+    /// # Errors
+    /// As [`new`](Self::new); [`GpuError::Shader`] for bytes that are not a
+    /// valid module with the `trace_pixels` entry point.
+    pub fn with_spirv(bytes: &[u8]) -> Result<Self, GpuError> {
+        if bytes.len() < 20 || bytes.len() % 4 != 0 || bytes[..4] != [0x03, 0x02, 0x23, 0x07] {
+            return Err(GpuError::Shader(
+                "not a SPIR-V module (bad magic or size)".into(),
+            ));
+        }
+        pollster::block_on(Self::create(bytes))
+    }
+
+    async fn create(bytes: &[u8]) -> Result<Self, GpuError> {
+        let (info, device, queue) = open_device().await?;
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let module = shader_module(&device, bytes, ENTRY, (8, 8, 1));
+        let entries: Vec<wgpu::BindGroupLayoutEntry> = STORAGE_ENTRIES
+            .iter()
+            .map(|&(binding, read_only)| wgpu::BindGroupLayoutEntry {
+                binding,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Storage { read_only },
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            })
+            .collect();
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("boundtrace"),
+            entries: &entries,
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("boundtrace"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("boundtrace trace_pixels"),
+            layout: Some(&pipeline_layout),
+            module: &module,
+            entry_point: Some(ENTRY),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        if let Some(e) = scope.pop().await {
+            return Err(GpuError::Shader(format!(
+                "{} (the `{ENTRY}` entry point needs the shader's `trace` feature: \
+                 BOUNDTRACE_SHADER_FEATURES=trace {BUILD_COMMAND}, which rust-gpu 0.11 \
+                 does not compile yet)",
+                error_chain(&e)
+            )));
+        }
+        Ok(Self {
+            adapter: info,
+            device,
+            queue,
+            pipeline,
+        })
+    }
+
+    /// The adapter in use (name, backend, device type: lavapipe reports
+    /// `DeviceType::Cpu`).
+    pub fn adapter_info(&self) -> &wgpu::AdapterInfo {
+        &self.adapter
+    }
+
+    /// Renders `scene` through `camera` with `settings` (method, mode,
+    /// parameters, size; `f32`), one shader invocation per pixel in 8 × 8
+    /// workgroups, into the CPU renderer's [`Frame`].
+    ///
+    /// # Errors
+    /// Invalid settings ([`GpuError::Render`]); more than [`MAX_GPU_ROOTS`]
+    /// roots per pixel in transparent mode; device errors.
+    pub fn render(
+        &self,
+        scene: &GpuScene,
+        camera: &Camera<f32>,
+        settings: &RenderSettings<f32>,
+    ) -> Result<Frame<f32>, GpuError> {
+        settings.validate()?;
+        let b = scene.bounds;
+        if !(0..3).all(|i| b[0][i].is_finite() && b[1][i].is_finite() && b[0][i] <= b[1][i]) {
+            return Err(GpuError::Render(RenderError::Bounds));
+        }
+        let slots = match settings.mode {
+            Mode::Opaque => 1,
+            Mode::Transparent if settings.max_roots <= MAX_GPU_ROOTS => settings.max_roots,
+            Mode::Transparent => return Err(GpuError::MaxRoots(settings.max_roots)),
+        };
+        let setup = PixelSetup {
+            camera: *camera,
+            bounds: scene.bounds,
+            width: settings.width,
+            height: settings.height,
+            method: settings.method,
+            mode: settings.mode,
+            params: settings.params,
+        };
+        let c = Constants::new(&setup, scene.kind, scene.iso, slots, scene.groups);
+        let n = settings.width as usize * settings.height as usize;
+        let (pix_words, hit_words) = self.run(&c, scene, n, n * slots as usize)?;
+        let mut pixels = Vec::with_capacity(n);
+        let mut hits = Vec::new();
+        for i in 0..n {
+            let p = read_pixel(&pix_words[i * 9..i * 9 + 9]);
+            let roots = p.roots.min(slots);
+            for k in 0..roots as usize {
+                let at = (i * slots as usize + k) * 5;
+                hits.push(read_hit(&hit_words[at..at + 5])?);
+            }
+            pixels.push(Pixel {
+                span: (p.has_span != 0).then_some(p.span),
+                trace: Trace {
+                    roots,
+                    status: status_of(p.status)?,
+                    t_reached: p.t_reached,
+                    stats: RayStats {
+                        steps: p.steps,
+                        field_evals: p.field_evals,
+                        bound_evals: p.bound_evals,
+                    },
+                },
+            });
+        }
+        Frame::from_parts(*camera, *settings, pixels, hits)
+            .ok_or_else(|| GpuError::Dispatch("inconsistent results read back".into()))
+    }
+
+    /// Uploads, dispatches and reads back the pixel and hit words.
+    fn run(
+        &self,
+        c: &Constants,
+        scene: &GpuScene,
+        pixels: usize,
+        hits: usize,
+    ) -> Result<(Vec<u32>, Vec<u32>), GpuError> {
+        use wgpu::util::DeviceExt;
+        let dev = &self.device;
+        let words_of = |w: &[u32]| -> Vec<u8> {
+            // wgpu rejects empty bindings: at least one word.
+            let mut v: Vec<u8> = w.iter().flat_map(|x| x.to_le_bytes()).collect();
+            if v.is_empty() {
+                v.extend_from_slice(&[0; 4]);
+            }
+            v
+        };
+        let storage = wgpu::BufferUsages::STORAGE;
+        let input = |label: &str, data: Vec<u8>| {
+            dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents: &data,
+                usage: storage,
+            })
+        };
+        let floats: Vec<u32> = scene.floats.iter().map(|x| x.to_bits()).collect();
+        let inputs = [
+            input("constants", words_of(&c.to_words())),
+            input("words", words_of(&scene.words)),
+            input("floats", words_of(&floats)),
+            input("blobs", words_of(&blob_words(&scene.blobs))),
+        ];
+        let pix_bytes = (pixels * 9 * 4) as u64;
+        let hit_bytes = (hits.max(1) * 5 * 4) as u64;
+        let output = |label: &str, size: u64| {
+            dev.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage: storage | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            })
+        };
+        let readback = |label: &str, size: u64| {
+            dev.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        };
+        let outs = [output("pixels", pix_bytes), output("hits", hit_bytes)];
+        let backs = [
+            readback("pixels-read", pix_bytes),
+            readback("hits-read", hit_bytes),
+        ];
+        let all: Vec<&wgpu::Buffer> = inputs.iter().chain(outs.iter()).collect();
+        let entries: Vec<wgpu::BindGroupEntry> = all
+            .iter()
+            .enumerate()
+            .map(|(i, b)| wgpu::BindGroupEntry {
+                binding: i as u32,
+                resource: b.as_entire_binding(),
+            })
+            .collect();
+        let scope = dev.push_error_scope(wgpu::ErrorFilter::Validation);
+        let bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("boundtrace"),
+            layout: &self.pipeline.get_bind_group_layout(0),
+            entries: &entries,
+        });
+        let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+        {
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &bind, &[]);
+            pass.dispatch_workgroups(c.width.div_ceil(WORKGROUP), c.height.div_ceil(WORKGROUP), 1);
+        }
+        enc.copy_buffer_to_buffer(&outs[0], 0, &backs[0], 0, pix_bytes);
+        enc.copy_buffer_to_buffer(&outs[1], 0, &backs[1], 0, hit_bytes);
+        self.queue.submit([enc.finish()]);
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(GpuError::Dispatch(error_chain(&e)));
+        }
+        let pixels = read_back(dev, &backs[0])?;
+        let hits = read_back(dev, &backs[1])?;
+        Ok((pixels, hits))
+    }
+}
+
+/// Selects an adapter (high-performance preference; the wgpu environment
+/// variables such as `WGPU_BACKEND` apply) and opens a device.
+async fn open_device() -> Result<(wgpu::AdapterInfo, wgpu::Device, wgpu::Queue), GpuError> {
+    let instance =
+        wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+    let adapter = instance
+        .request_adapter(&wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::HighPerformance,
+            force_fallback_adapter: false,
+            compatible_surface: None,
+            apply_limit_buckets: false,
+        })
+        .await
+        .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
+    let info = adapter.get_info();
+    let (device, queue) = adapter
+        .request_device(&wgpu::DeviceDescriptor {
+            label: Some("boundtrace"),
+            required_features: adapter.features() & wgpu::Features::PASSTHROUGH_SHADERS,
+            required_limits: adapter.limits(),
+            ..Default::default()
+        })
+        .await
+        .map_err(|e| GpuError::Device(e.to_string()))?;
+    Ok((info, device, queue))
+}
+
+/// The shader module: passed through to the driver when the device allows
+/// it (wgpu's naga SPIR-V front end rejects the infinite float constants of
+/// the interval code), else through naga.
+fn shader_module(
+    device: &wgpu::Device,
+    bytes: &[u8],
+    entry: &str,
+    workgroup: (u32, u32, u32),
+) -> wgpu::ShaderModule {
+    if !device
+        .features()
+        .contains(wgpu::Features::PASSTHROUGH_SHADERS)
+    {
+        return device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("boundtrace-gpu-shader"),
+            source: wgpu::util::make_spirv(bytes),
+        });
+    }
+    let words: Vec<u32> = bytes
+        .chunks_exact(4)
+        .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        .collect();
+    let desc = wgpu::ShaderModuleDescriptorPassthrough {
+        label: Some("boundtrace-gpu-shader"),
+        entry_points: vec![wgpu::PassthroughShaderEntryPoint {
+            name: entry.to_owned().into(),
+            workgroup_size: workgroup,
+        }]
+        .into(),
+        spirv: Some(words.into()),
+        ..Default::default()
+    };
+    // SAFETY: the bytes are a SPIR-V module (magic checked by
+    // `load_module`/`with_spirv`) produced by rust-gpu, whose build runs
+    // spirv-val on it; its bindings match the explicit layouts given to the
+    // pipelines.
+    #[allow(unsafe_code)]
+    unsafe {
+        device.create_shader_module_passthrough(desc)
+    }
+}
+
+/// Reads the module from [`default_spirv_path`].
+fn load_module() -> Result<Vec<u8>, GpuError> {
+    let path = default_spirv_path();
+    if !path.is_file() {
+        return Err(GpuError::ShaderMissing { path });
+    }
+    let bytes = std::fs::read(&path)
+        .map_err(|e| GpuError::Shader(format!("cannot read {}: {e}", path.display())))?;
+    if bytes.len() < 20 || bytes.len() % 4 != 0 || bytes[..4] != [0x03, 0x02, 0x23, 0x07] {
+        return Err(GpuError::Shader(
+            "not a SPIR-V module (bad magic or size)".into(),
+        ));
+    }
+    Ok(bytes)
+}
+
+/// The toolchain probe: runs the module's `interval_square` entry point,
+/// `x ↦ hi([x, x + 1]²)` in `boundtrace-ia-core`'s outward-rounded interval
+/// arithmetic compiled to SPIR-V, on `xs`, and returns the results with the
+/// adapter used. The same Rust code on the CPU must give the same floats.
+///
+/// # Errors
+/// As [`GpuTracer::new`].
+pub fn interval_probe(xs: &[f32]) -> Result<(Vec<f32>, wgpu::AdapterInfo), GpuError> {
+    let bytes = load_module()?;
+    pollster::block_on(async {
+        use wgpu::util::DeviceExt;
+        let (info, device, queue) = open_device().await?;
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let module = shader_module(&device, &bytes, "interval_square", (64, 1, 1));
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: None,
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Storage { read_only: false },
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            }],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: None,
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("interval_square"),
+            layout: Some(&pipeline_layout),
+            module: &module,
+            entry_point: Some("interval_square"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        let mut words: Vec<u8> = xs.iter().flat_map(|x| x.to_le_bytes()).collect();
+        if words.is_empty() {
+            words.extend_from_slice(&[0; 4]);
+        }
+        let size = words.len() as u64;
+        let data = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("data"),
+            contents: &words,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        });
+        let back = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("data-read"),
+            size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: None,
+            layout: &layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: data.as_entire_binding(),
+            }],
+        });
+        let mut enc =
+            device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+        {
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+            pass.set_pipeline(&pipeline);
+            pass.set_bind_group(0, &bind, &[]);
+            pass.dispatch_workgroups((xs.len() as u32).div_ceil(64).max(1), 1, 1);
+        }
+        enc.copy_buffer_to_buffer(&data, 0, &back, 0, size);
+        queue.submit([enc.finish()]);
+        if let Some(e) = scope.pop().await {
+            return Err(GpuError::Shader(error_chain(&e)));
+        }
+        let words = read_back(&device, &back)?;
+        let out = words
+            .iter()
+            .take(xs.len())
+            .map(|w| f32::from_bits(*w))
+            .collect();
+        Ok((out, info))
+    })
+}
+
+/// An error with its sources (wgpu's own message is only "Validation Error").
+fn error_chain(e: &dyn std::error::Error) -> String {
+    let mut msg = e.to_string();
+    let mut src = e.source();
+    while let Some(s) = src {
+        msg.push_str(": ");
+        msg.push_str(&s.to_string());
+        src = s.source();
+    }
+    msg
+}
+
+/// Maps a `MAP_READ` buffer and returns its words.
+fn read_back(device: &wgpu::Device, back: &wgpu::Buffer) -> Result<Vec<u32>, GpuError> {
+    let slice = back.slice(..);
+    let (tx, rx) = std::sync::mpsc::channel();
+    slice.map_async(wgpu::MapMode::Read, move |r| {
+        let _ = tx.send(r);
+    });
+    device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| GpuError::Dispatch(e.to_string()))?;
+    rx.recv()
+        .map_err(|e| GpuError::Dispatch(e.to_string()))?
+        .map_err(|e| GpuError::Dispatch(e.to_string()))?;
+    let view = slice
+        .get_mapped_range()
+        .map_err(|e| GpuError::Dispatch(e.to_string()))?;
+    let words: Vec<u32> = view
+        .chunks_exact(4)
+        .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        .collect();
+    drop(view);
+    back.unmap();
+    Ok(words)
+}
+
+fn read_pixel(w: &[u32]) -> PixelOut {
+    let f = f32::from_bits;
+    PixelOut {
+        has_span: w[0],
+        span: [f(w[1]), f(w[2])],
+        roots: w[3],
+        status: w[4],
+        t_reached: f(w[5]),
+        steps: w[6],
+        field_evals: w[7],
+        bound_evals: w[8],
+    }
+}
+
+fn read_hit(w: &[u32]) -> Result<Hit<f32>, GpuError> {
+    let f = f32::from_bits;
+    let h = HitOut {
+        t: f(w[0]),
+        side: w[1],
+        normal: [f(w[2]), f(w[3]), f(w[4])],
+    };
+    let side = match h.side {
+        0 => Side::Entering,
+        1 => Side::Leaving,
+        2 => Side::Touch,
+        s => return Err(GpuError::Dispatch(format!("bad side code {s} read back"))),
+    };
+    Ok(Hit {
+        t: h.t,
+        side,
+        normal: h.normal,
+    })
+}
+
+fn status_of(code: u32) -> Result<Status, GpuError> {
+    Ok(match code {
+        0 => Status::Finished,
+        1 => Status::MaxSteps,
+        2 => Status::BufferFull,
+        3 => Status::Unsupported,
+        s => return Err(GpuError::Dispatch(format!("bad status code {s} read back"))),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use boundtrace_tracer::scenes::DEFAULT_SEED;
+
+    #[test]
+    fn blob_layout_is_seven_words() {
+        // The shader reads `PointBlob<f32>` as #[repr(C)] {[f32; 3], f32, u32, u32, f32}.
+        assert_eq!(std::mem::size_of::<PointBlob<f32>>(), 28);
+        let k = boundtrace_fields::Kernel::compact(6, 0.25f32).unwrap();
+        let b = PointBlob::new([1.0, 2.0, 3.0], 0.5, k).unwrap();
+        let w = blob_words(&[b]);
+        assert_eq!(
+            w,
+            [
+                1.0f32.to_bits(),
+                2.0f32.to_bits(),
+                3.0f32.to_bits(),
+                0.5f32.to_bits(),
+                0,
+                6,
+                0.25f32.to_bits()
+            ]
+        );
+    }
+
+    #[test]
+    fn scenes_with_and_without_gpu_data() {
+        let blobs = Scene::<f32>::build("blobs", DEFAULT_SEED).unwrap();
+        let g = GpuScene::from_scene(&blobs).unwrap();
+        assert_eq!(g.kind(), SceneKind::BlobGroups);
+        assert_eq!(
+            (g.groups, g.blobs.len(), g.words.last().copied()),
+            (4, 32, Some(32))
+        );
+        let sum = Scene::<f32>::build("blobs-sum", DEFAULT_SEED).unwrap();
+        assert_eq!(GpuScene::from_scene(&sum).unwrap().kind(), SceneKind::Blobs);
+        let agg = Scene::<f32>::build("aggregate-1", DEFAULT_SEED).unwrap();
+        assert!(GpuScene::from_scene(&agg).is_err());
+        let hrbf = Scene::<f32>::build("hrbf-8", DEFAULT_SEED).unwrap();
+        let e = GpuScene::from_scene(&hrbf).unwrap_err();
+        assert!(e.to_string().contains("hrbf-8"), "{e}");
+    }
+
+    #[test]
+    fn missing_module_names_the_build_command() {
+        let e = GpuError::ShaderMissing {
+            path: PathBuf::from("/nowhere/x.spv"),
+        };
+        let msg = e.to_string();
+        assert!(
+            msg.contains(BUILD_COMMAND) && msg.contains("/nowhere/x.spv"),
+            "{msg}"
+        );
+        assert!(default_spirv_path().ends_with("spirv/boundtrace-gpu-shader.spv"));
+        assert!(matches!(
+            GpuTracer::with_spirv(b"not spir-v"),
+            Err(GpuError::Shader(_))
+        ));
+    }
+}

@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Builds boundtrace's SPIR-V compute shader (crates/gpu-shader) with rust-gpu.
+#
+# Installs the pinned nightly (rust-gpu 0.11 needs nightly-2026-08-15 with
+# rust-src, rustc-dev, llvm-tools) with rustup when missing, builds the
+# builder (crates/gpu-builder; its target dir is cached under
+# $CARGO_TARGET_DIR/spirv-builder, the first build takes ~8 min on 2 cores)
+# and writes the module to the path the host crate loads:
+#
+#     ${CARGO_TARGET_DIR:-target}/spirv/boundtrace-gpu-shader.spv
+#
+# (boundtrace-gpu also honours BOUNDTRACE_GPU_SPV=/path/to/module.spv).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root=$(pwd)
+
+toolchain=nightly-2026-08-15
+if ! rustup run "$toolchain" rustc --version >/dev/null 2>&1 ||
+    ! rustup component list --toolchain "$toolchain" --installed 2>/dev/null | grep -q '^rustc-dev'; then
+    echo "==> installing $toolchain (rust-src, rustc-dev, llvm-tools) for rust-gpu"
+    rustup toolchain install "$toolchain" --profile minimal -c rust-src,rustc-dev,llvm-tools
+fi
+
+target=${CARGO_TARGET_DIR:-$root/target}
+case "$target" in /*) ;; *) target="$root/$target" ;; esac
+out="$target/spirv/boundtrace-gpu-shader.spv"
+
+echo "==> building the SPIR-V builder (cached in $target/spirv-builder) and compiling crates/gpu-shader"
+# `cargo run` puts the codegen backend (librustc_codegen_spirv.so) and the
+# nightly's rustc libraries on the library path; the nested shader build gets
+# its own target dir.
+(cd crates/gpu-builder &&
+    CARGO_TARGET_DIR="$target/spirv-builder" cargo +"$toolchain" run --release --locked -q -- \
+        "$out" "$target/spirv-shader")

@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# Prepares the GPU difftests (crates/gpu-spirv): a Vulkan driver (lavapipe,
+# installed with apt-get only when no Vulkan ICD is present) and the SPIR-V
+# module (scripts/build-spirv.sh). The tests themselves run in
+# `cargo test --workspace` (or `cargo test -p boundtrace-gpu`); with CI=true
+# a missing adapter or module makes them FAIL, never skip.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+have_icd() {
+    ls /usr/share/vulkan/icd.d/*.json /etc/vulkan/icd.d/*.json >/dev/null 2>&1
+}
+if ! have_icd; then
+    echo "==> no Vulkan driver: installing lavapipe (mesa-vulkan-drivers, libvulkan1)"
+    if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
+        apt-get update -qq
+        DEBIAN_FRONTEND=noninteractive apt-get install -y -qq mesa-vulkan-drivers libvulkan1 >/dev/null
+    else
+        echo "cannot install lavapipe (needs root and apt-get); the GPU tests will fail in CI" >&2
+    fi
+fi
+
+scripts/build-spirv.sh
