@@ -4,7 +4,7 @@
 //! Fig. 10, 12 and 13, §7).
 //!
 //! Each pixel's ray is clipped to the scene's bounding box by
-//! [`ray_box_span`](crate::camera::ray_box_span) and traced there by [`trace`](fn@crate::trace) with the
+//! [`ray_box_span`] and traced there by [`trace`](fn@crate::trace) with the
 //! chosen [`Method`] and [`Mode`]: opaque mode keeps the first root,
 //! transparent mode every root up to `max_roots` (a fixed per-pixel buffer,
 //! [`Status::BufferFull`] beyond). At each root the surface normal
@@ -184,7 +184,7 @@ fn check_size(width: u32, height: u32) -> Result<(), RenderError> {
 /// One pixel's ray: its span in the bounding box and how tracing went.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Pixel<T> {
-    /// The span of the ray in the bounding box ([`ray_box_span`](crate::camera::ray_box_span)); `None`
+    /// The span of the ray in the bounding box ([`ray_box_span`]); `None`
     /// when the ray misses the box (it is then not traced).
     pub span: Option<[T; 2]>,
     /// The trace record: number of roots, [`Status`], point reached and
@@ -369,7 +369,7 @@ pub struct Frame<T> {
 }
 
 /// Renders `field` through `camera` inside `bounds = [min, max]`: one ray per
-/// pixel, clipped to the box by [`ray_box_span`](crate::camera::ray_box_span) and traced with the
+/// pixel, clipped to the box by [`ray_box_span`] and traced with the
 /// settings' method and mode. With the `parallel` feature rows are rendered
 /// in parallel (rayon), with a result bit-identical to [`render_serial`].
 ///
