@@ -386,17 +386,7 @@ where
     T: Real + Send + Sync,
     F: Field<T> + Sync,
 {
-    let tracer = |ray: &Ray<T>, span: [T; 2], buf: &mut [Root<T>]| {
-        trace(
-            field,
-            ray,
-            span,
-            settings.method,
-            settings.mode,
-            &settings.params,
-            buf,
-        )
-    };
+    let tracer = field_tracer(field, settings);
     render_with(field, &tracer, camera, bounds, settings)
 }
 
@@ -486,17 +476,7 @@ pub fn render_serial<T: Real, F: Field<T>>(
     settings: &RenderSettings<T>,
 ) -> Result<Frame<T>, RenderError> {
     check(&bounds, settings)?;
-    let tracer = |ray: &Ray<T>, span: [T; 2], buf: &mut [Root<T>]| {
-        trace(
-            field,
-            ray,
-            span,
-            settings.method,
-            settings.mode,
-            &settings.params,
-            buf,
-        )
-    };
+    let tracer = field_tracer(field, settings);
     let rows = serial_rows(field, &tracer, camera, &bounds, settings);
     Ok(assemble(*camera, *settings, rows))
 }
@@ -584,6 +564,25 @@ fn render_row<T: Real, F: Field<T>, R: Fn(&Ray<T>, [T; 2], &mut [Root<T>]) -> Tr
         });
     }
     row
+}
+
+/// The generic per-ray tracer of `render`/`render_serial`: [`trace`] with
+/// the settings' method, mode and parameters.
+fn field_tracer<'a, T: Real, F: Field<T>>(
+    field: &'a F,
+    settings: &'a RenderSettings<T>,
+) -> impl Fn(&Ray<T>, [T; 2], &mut [Root<T>]) -> Trace<T> + 'a {
+    move |ray, span, buf| {
+        trace(
+            field,
+            ray,
+            span,
+            settings.method,
+            settings.mode,
+            &settings.params,
+            buf,
+        )
+    }
 }
 
 fn hit_at<T: Real, F: Field<T>>(field: &F, ray: &Ray<T>, root: &Root<T>) -> Hit<T> {
