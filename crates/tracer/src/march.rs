@@ -535,10 +535,12 @@ pub(crate) fn march<T: Real, F: Field<T>>(
         let Some(b) = window_bound(field, ray, t, e, method, &mut w.stats) else {
             return w.done(Status::Unsupported, t);
         };
-        // A bound undefined at t, or not exact there (e.g. |x| or √ at a
-        // kink of the field): certify a step with interval enclosures.
+        // A bound undefined at t, not exact there (e.g. |x| or √ at a kink
+        // of the field), or valid on less than `eps` (validity intervals,
+        // paper §4.2, can collapse near a kink or a near-tangency: stepping
+        // by them would crawl): certify a step with interval enclosures.
         let mut s = sign_of(b.start);
-        let degenerate = b.start.is_empty() || !(b.h > T::ZERO);
+        let degenerate = b.start.is_empty() || !(b.h >= eps.min(e - t));
         if degenerate || s == 0 {
             let f = value_enclosure(field, ray, t);
             w.stats.field_evals += 1;
