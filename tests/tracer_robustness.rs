@@ -232,3 +232,38 @@ scenes! {
     #[ignore = "11,110 primitives: ~1 s per ray and method; run with --release --ignored"]
     aggregate_4_smooth => "aggregate-4-smooth", 12, 12;
 }
+
+/// Regression: a ray of `aggregate-1-smooth` (ray 1357 of 5,000, seed 1)
+/// on which `quadratic-bottom-up` used to give up. Within 10⁻⁸ of the
+/// surface the bottom-up bound's validity interval collapsed to ~10⁻¹¹ and
+/// the marcher stepped by it 10,000 times; a validity shorter than `eps`
+/// now hands the step to interval certification (`march.rs`).
+#[test]
+fn collapsed_validity_does_not_crawl() {
+    use boundtrace::inclusion::Ray;
+    use boundtrace::tracer::{Root, Side, Status, trace};
+    let scene = Scene::<f64>::build("aggregate-1-smooth", DEFAULT_SEED).unwrap();
+    let ray = Ray::new(
+        [0.9721150607617056, 0.002258114262562394, 0.7185601299801379],
+        [-1.0, 0.0, 0.0],
+    );
+    let span = [0.0, 1.9442301215234112];
+    // The dense reference's first root on this ray.
+    let reference = 0.9900369303230108;
+    let params = Params::new();
+    for method in [Method::QuadraticBottomUp, Method::QuadraticMixed] {
+        let mut roots = [Root {
+            t: 0.0,
+            side: Side::Touch,
+        }; 4];
+        let tr = trace(scene.field(), &ray, span, method, Mode::Opaque, &params, &mut roots);
+        assert_eq!(tr.status, Status::Finished, "{method}: {tr:?}");
+        assert_eq!(tr.roots, 1, "{method}: {tr:?}");
+        assert!(
+            (roots[0].t - reference).abs() <= params.eps,
+            "{method}: root {} vs reference {reference}",
+            roots[0].t
+        );
+        assert!(tr.stats.steps < 200, "{method}: {} steps", tr.stats.steps);
+    }
+}
