@@ -18,8 +18,9 @@ use crate::image::{Image, ImageError};
 use crate::method::{Method, Mode, Params};
 use crate::scalis::{RayPrimitives, trace_scalis};
 use crate::trace::{RayStats, Root, Side, Status};
+use boundtrace_fields::homothetic::SegmentKernel;
 use boundtrace_fields::scalis::{ScalisSegment, ScalisSkeleton};
-use boundtrace_inclusion::{Field, Ray};
+use boundtrace_inclusion::{Field, Jet, Ray};
 use std::fmt;
 use std::vec::Vec;
 
@@ -171,26 +172,48 @@ fn bucket_segments(
         .collect()
 }
 
-/// What one ray of the grid fills.
-struct Column<'a> {
-    settings: SliceSettings,
-    z: [f64; 2],
-    inside: &'a mut [u8],
+/// How [`run`] fills a column of voxels.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum How {
+    /// The column classifier (module docs, "Classifying a column").
+    Classify,
+    /// All roots with `scalis-quadratic` (interval enclosures throughout).
+    Traced,
+    /// The field at every voxel centre.
+    Sample,
 }
 
-/// Slices `skeleton` inside `bounds` (module docs) with `params` (`eps`:
-/// the root accuracy).
+/// Slices `skeleton` inside `bounds` (module docs) with the column
+/// classifier: the state of every voxel centre is the sign of the field
+/// there, evaluated only where the per-primitive ranges cannot decide.
+/// `params.eps` is not used (the classifier works at voxel resolution).
 ///
 /// # Errors
-/// [`SliceError`] for a bad grid or box, a Cauchy skeleton, or a ray that
-/// did not finish.
+/// [`SliceError`] for a bad grid or box, or a Cauchy skeleton.
 pub fn slice_scalis<S: AsRef<[ScalisSegment<f64>]>>(
     skeleton: &ScalisSkeleton<f64, S>,
     bounds: [[f64; 3]; 2],
     settings: SliceSettings,
     params: &Params<f64>,
 ) -> Result<SliceStack, SliceError> {
-    run(skeleton, bounds, settings, params, true)
+    run(skeleton, bounds, settings, params, How::Classify)
+}
+
+/// Slices `skeleton` by tracing all roots of every column with
+/// `scalis-quadratic` ([`trace_scalis`], transparent mode, roots within
+/// `params.eps`; interval enclosures throughout, no reliance on the `f64`
+/// accuracy of the closed form), then filling the voxels between them.
+/// Much slower than [`slice_scalis`] (BENCHMARKS.md).
+///
+/// # Errors
+/// [`SliceError`], including a ray that did not finish.
+pub fn slice_scalis_traced<S: AsRef<[ScalisSegment<f64>]>>(
+    skeleton: &ScalisSkeleton<f64, S>,
+    bounds: [[f64; 3]; 2],
+    settings: SliceSettings,
+    params: &Params<f64>,
+) -> Result<SliceStack, SliceError> {
+    run(skeleton, bounds, settings, params, How::Traced)
 }
 
 /// The same stack by evaluating the field at every voxel centre with the
@@ -204,15 +227,50 @@ pub fn sample_scalis<S: AsRef<[ScalisSegment<f64>]>>(
     settings: SliceSettings,
     params: &Params<f64>,
 ) -> Result<SliceStack, SliceError> {
-    run(skeleton, bounds, settings, params, false)
+    run(skeleton, bounds, settings, params, How::Sample)
 }
 
+/// The voxels of one ray: `buf[k·stride]` is voxel `k` of the column.
+struct Column<'a> {
+    slices: usize,
+    /// The span `[0, z1 − z0]` along the ray.
+    len: f64,
+    buf: &'a mut [u8],
+    stride: usize,
+}
+
+impl Column<'_> {
+    /// The parameter of voxel centre `k` along the ray.
+    #[inline]
+    fn centre(&self, k: usize) -> f64 {
+        self.len * (k as f64 + 0.5) / self.slices as f64
+    }
+    #[inline]
+    fn set(&mut self, k: usize) {
+        self.buf[k * self.stride] = 1;
+    }
+    /// The first centre `≥ t` (may be `slices`).
+    fn first_at_or_after(&self, t: f64) -> usize {
+        let g = (t / self.len * self.slices as f64 - 0.5).ceil();
+        let mut k = if g > 0.0 { (g as usize).min(self.slices) } else { 0 };
+        // exact against `centre`, whatever the rounding of the guess
+        while k > 0 && self.centre(k - 1) >= t {
+            k -= 1;
+        }
+        while k < self.slices && self.centre(k) < t {
+            k += 1;
+        }
+        k
+    }
+}
+
+#[allow(clippy::too_many_lines)]
 fn run<S: AsRef<[ScalisSegment<f64>]>>(
     skeleton: &ScalisSkeleton<f64, S>,
     bounds: [[f64; 3]; 2],
     settings: SliceSettings,
     params: &Params<f64>,
-    by_roots: bool,
+    how: How,
 ) -> Result<SliceStack, SliceError> {
     let n = check(&bounds, &settings)?;
     crate::scalis::check_segments(skeleton.segments()).map_err(SliceError::Skeleton)?;
@@ -221,10 +279,11 @@ fn run<S: AsRef<[ScalisSegment<f64>]>>(
     let [lo, hi] = bounds;
     let dx = (hi[0] - lo[0]) / f64::from(w);
     let dy = (hi[1] - lo[1]) / f64::from(h);
+    let slices = settings.slices as usize;
+    let plane = (w as usize) * (h as usize);
     let mut voxels = vec![0u8; n];
-    // one column of voxels per ray, gathered per pixel then scattered
-    let mut column = vec![0u8; settings.slices as usize];
     let mut stats = RayStats::default();
+    let mut scratch = Scratch::default();
     for by in (0..h).step_by(BUCKET as usize) {
         for bx in (0..w).step_by(BUCKET as usize) {
             let (ex, ey) = ((bx + BUCKET).min(w), (by + BUCKET).min(h));
@@ -235,42 +294,61 @@ fn run<S: AsRef<[ScalisSegment<f64>]>>(
                 continue; // every voxel outside (already 0)
             }
             let sk = ScalisSkeleton::new(segs).map_err(|_| SliceError::Grid)?;
+            let prims: Vec<Prim> = sk.segments().iter().map(Prim::new).collect();
             let mut storage = vec![crate::scalis::PrimitiveHit::empty(); sk.segments().len()];
+            // one row of the bucket at a time: `row[k·bw + x − bx]`, copied
+            // slice by slice into the stack (contiguous writes)
+            let bw = (ex - bx) as usize;
+            let mut row = vec![0u8; bw * slices];
             for y in by..ey {
+                row.fill(0);
+                let mut any = false;
                 for x in bx..ex {
                     let px = lo[0] + (f64::from(x) + 0.5) * dx;
                     let py = lo[1] + (f64::from(y) + 0.5) * dy;
                     let ray = Ray::new([px, py, lo[2]], [0.0, 0.0, 1.0]);
                     let span = [0.0, hi[2] - lo[2]];
                     let list = RayPrimitives::build(sk.segments(), &ray, span, &mut storage);
-                    let mut col = Column {
-                        settings,
-                        z: span,
-                        inside: &mut column,
-                    };
-                    col.inside.fill(0);
                     if list.hits().is_empty() {
                         continue;
                     }
-                    if by_roots {
-                        let st = fill_by_roots(&sk, list.hits(), &ray, &mut col, params).map_err(
-                            |status| SliceError::Unfinished {
-                                pixel: (x, y),
-                                status,
-                            },
-                        )?;
-                        stats = stats + st;
-                    } else {
-                        stats.field_evals = stats.field_evals.saturating_add(fill_by_sampling(
-                            &sk,
-                            list.hits(),
-                            &ray,
-                            &mut col,
-                        ));
+                    any = true;
+                    let mut col = Column {
+                        slices,
+                        len: span[1],
+                        buf: &mut row[(x - bx) as usize..],
+                        stride: bw,
+                    };
+                    match how {
+                        How::Classify => {
+                            let cx = ColumnCtx {
+                                sk: &sk,
+                                prims: &prims,
+                                ray: &ray,
+                            };
+                            let st = classify(&cx, list.hits(), &mut col, &mut scratch);
+                            stats = stats + st;
+                        }
+                        How::Traced => {
+                            let st = fill_by_roots(&sk, list.hits(), &ray, &mut col, params)
+                                .map_err(|status| SliceError::Unfinished {
+                                    pixel: (x, y),
+                                    status,
+                                })?;
+                            stats = stats + st;
+                        }
+                        How::Sample => {
+                            stats.field_evals = stats.field_evals.saturating_add(
+                                fill_by_sampling(&sk, list.hits(), &ray, &mut col),
+                            );
+                        }
                     }
-                    let plane = (w as usize) * (h as usize);
-                    for (k, &v) in column.iter().enumerate() {
-                        voxels[k * plane + y as usize * w as usize + x as usize] = v;
+                }
+                if any {
+                    let base = y as usize * w as usize + bx as usize;
+                    for k in 0..slices {
+                        let dst = k * plane + base;
+                        voxels[dst..dst + bw].copy_from_slice(&row[k * bw..(k + 1) * bw]);
                     }
                 }
             }
@@ -281,12 +359,6 @@ fn run<S: AsRef<[ScalisSegment<f64>]>>(
         inside: voxels,
         stats,
     })
-}
-
-/// The voxel centres of a column: `t_k = (k + ½)·dz` along the ray.
-#[inline]
-fn centre(col: &Column<'_>, k: usize) -> f64 {
-    (col.z[1] - col.z[0]) * (k as f64 + 0.5) / f64::from(col.settings.slices)
 }
 
 /// All roots (resuming after a full buffer), then the state between them.
@@ -302,17 +374,17 @@ fn fill_by_roots<S: AsRef<[ScalisSegment<f64>]>>(
         side: Side::Touch,
     }; 64];
     let mut stats = RayStats::default();
-    let mut t0 = col.z[0];
+    let mut t0 = 0.0;
     // the span starts on the box's face, outside the surface
     let mut inside = sk.eval(ray.at::<f64>(t0, t0)) < 0.0;
     let mut k = 0usize;
-    let n = col.inside.len();
+    let n = col.slices;
     loop {
         let tr = trace_scalis(
             sk,
             hits,
             ray,
-            [t0, col.z[1]],
+            [t0, col.len],
             Method::ScalisQuadratic,
             Mode::Transparent,
             params,
@@ -320,8 +392,10 @@ fn fill_by_roots<S: AsRef<[ScalisSegment<f64>]>>(
         );
         stats = stats + tr.stats;
         for r in &buf[..tr.roots as usize] {
-            while k < n && centre(col, k) < r.t {
-                col.inside[k] = u8::from(inside);
+            while k < n && col.centre(k) < r.t {
+                if inside {
+                    col.set(k);
+                }
                 k += 1;
             }
             match r.side {
@@ -337,7 +411,9 @@ fn fill_by_roots<S: AsRef<[ScalisSegment<f64>]>>(
         }
     }
     while k < n {
-        col.inside[k] = u8::from(inside);
+        if inside {
+            col.set(k);
+        }
         k += 1;
     }
     Ok(stats)
@@ -353,8 +429,14 @@ fn fill_by_sampling<S: AsRef<[ScalisSegment<f64>]>>(
 ) -> u32 {
     let segs = sk.segments();
     let mut evals = 0u32;
-    for k in 0..col.inside.len() {
-        let t = centre(col, k);
+    // only the centres inside some support can be inside
+    let (first, last) = (hits[0].entry, hits.iter().fold(hits[0].exit, |m, h| m.max(h.exit)));
+    let mut k = col.first_at_or_after(first);
+    while k < col.slices {
+        let t = col.centre(k);
+        if t > last {
+            break;
+        }
         let p = ray.at::<f64>(t, t);
         let mut f = 0.0;
         for h in hits {
@@ -366,9 +448,460 @@ fn fill_by_sampling<S: AsRef<[ScalisSegment<f64>]>>(
                 evals += 1;
             }
         }
-        col.inside[k] = u8::from(f > sk.iso());
+        if f > sk.iso() {
+            col.set(k);
+        }
+        k += 1;
     }
     evals
+}
+
+// ---------------------------------------------------------------------
+// Classifying a column
+// ---------------------------------------------------------------------
+
+/// The relative accuracy assumed of the `f64` closed form's values and
+/// derivatives (module docs, "Accuracy"): 100 × the largest relative error
+/// measured against adaptive quadrature (`tests/fields_scalis.rs`).
+pub const CLOSED_FORM_REL: f64 = 1e-7;
+
+/// Skeleton cells of the per-primitive ranges of varying-radius segments
+/// ([`crate::scalis::bounds::density_bounds`]).
+pub const CLASSIFY_CELLS: u32 = 16;
+
+/// What the classifier needs of one segment of a bucket.
+#[derive(Clone, Copy, Debug)]
+struct Prim {
+    /// Constant radius (`r_a = r_b`) and a compact kernel: the density is
+    /// log-concave along every line and bounded by the infinite line's.
+    constant: bool,
+    /// A point of the skeleton line and its unit direction.
+    a: [f64; 3],
+    u: [f64; 3],
+    /// The radius, `σ`, and `m` (degree `2m`).
+    tau: f64,
+    sigma: f64,
+    m: i32,
+    /// The infinite line's density on its axis, `σ·c_m/N`.
+    peak: f64,
+}
+
+impl Prim {
+    fn new(s: &ScalisSegment<f64>) -> Self {
+        let sk = s.segment();
+        let (sigma, m) = match s.kernel() {
+            SegmentKernel::CompactPolynomial { degree, sigma } => (sigma, (degree / 2) as i32),
+            SegmentKernel::Cauchy { .. } => (0.0, 0),
+        };
+        // c_m = ∫₋₁¹ (1 − v²)^m dv = 2^{2m+1} (m!)² / (2m + 1)!
+        let mut cm = 2.0;
+        let mut i = 1;
+        while i <= m {
+            cm *= 2.0 * f64::from(i) / (2.0 * f64::from(i) + 1.0);
+            i += 1;
+        }
+        let constant = m > 0 && sk.ra() == sk.rb() && sk.length() > 0.0 && sk.ra() > 0.0;
+        Self {
+            constant,
+            a: sk.a(),
+            u: sk.axis(),
+            tau: sk.ra().min(sk.rb()),
+            sigma,
+            m,
+            peak: s.inv_normalization() * sigma * cm,
+        }
+    }
+
+    /// The ray's distance to the line: `d²(t) = d2 + ee·(t − ts)²`.
+    fn geometry(&self, ray: &Ray<f64>, span: f64) -> Geo {
+        let nan = Geo {
+            ts: f64::NAN,
+            d2: f64::NAN,
+            ee: f64::NAN,
+            slack: f64::NAN,
+        };
+        if !self.constant {
+            return nan;
+        }
+        let w0 = sub(ray.origin, self.a);
+        let c = cross(w0, self.u);
+        let e = cross(ray.dir, self.u);
+        let ee = dot(e, e);
+        let ts = if ee > 0.0 { -dot(c, e) / ee } else { 0.0 };
+        let q = [c[0] + ts * e[0], c[1] + ts * e[1], c[2] + ts * e[2]];
+        // rounding of the cross products and of the identity: a few ulps
+        // of |w0| + |t|·|d| (|u| = 1)
+        let slack = 1e-12 * (dot(w0, w0).sqrt() + (span + ts.abs()) * dot(ray.dir, ray.dir).sqrt());
+        Geo {
+            ts,
+            d2: dot(q, q),
+            ee,
+            slack,
+        }
+    }
+
+    /// An upper bound of the density on the ray piece `[t0, t1]`
+    /// (constant radius): the density of the infinite line of the same
+    /// radius at the piece's smallest distance `D·τ` to the line,
+    /// `σ c_m/N · (1 − D²/σ²)^{m+½}` (the segment is part of the line and
+    /// the line's density decreases with the distance).
+    fn line_bound(&self, g: &Geo, t0: f64, t1: f64) -> f64 {
+        let t = g.ts.clamp(t0, t1);
+        let dt = t - g.ts;
+        let d = ((g.d2 + g.ee * dt * dt).sqrt() - g.slack).max(0.0) / self.tau;
+        let x = 1.0 - d * d / (self.sigma * self.sigma);
+        if !(x > 0.0) {
+            return 0.0;
+        }
+        let v = self.peak * x.powi(self.m) * x.sqrt() * (1.0 + CLOSED_FORM_REL);
+        if v.is_nan() { f64::INFINITY } else { v }
+    }
+
+    /// Where the ray's distance to the line equals the radius (the
+    /// surface of an isolated long segment), or NaN.
+    fn model_roots(&self, g: &Geo) -> (f64, f64) {
+        let r = self.tau * self.tau - g.d2;
+        if !(r > 0.0 && g.ee > 0.0) {
+            return (f64::NAN, f64::NAN);
+        }
+        let hw = (r / g.ee).sqrt();
+        (g.ts - hw, g.ts + hw)
+    }
+}
+
+/// The ray's distance to a segment's line (see [`Prim::geometry`]); NaN
+/// for varying radii.
+#[derive(Clone, Copy, Debug)]
+struct Geo {
+    ts: f64,
+    d2: f64,
+    ee: f64,
+    slack: f64,
+}
+
+#[inline]
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+#[inline]
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+#[inline]
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// The supremum on `[a, b]` of a log-concave `f ≥ 0` with value `fa` and
+/// derivative `da` at `a`, `fb` and `db` at `b` (a zero value or a NaN
+/// derivative carries no information): below each tangent of `ln f`
+/// (module docs). `tau` scales the derivative's accuracy margin.
+fn log_concave_sup(a: f64, fa: f64, da: f64, b: f64, fb: f64, db: f64, tau: f64) -> f64 {
+    let r = CLOSED_FORM_REL;
+    let len = b - a;
+    // ln f(t) ≤ ln f(x) + (f'(x)/f(x))·(t − x), with the slopes widened
+    // outward (larger to the right of a, smaller to the left of b)
+    let ta = (fa > 0.0 && !da.is_nan())
+        .then(|| (fa * (1.0 + r), (da + 2.0 * r * (da.abs() + fa / tau)) / fa));
+    let tb = (fb > 0.0 && !db.is_nan())
+        .then(|| (fb * (1.0 + r), (db - 2.0 * r * (db.abs() + fb / tau)) / fb));
+    let sup_a = ta.map_or(f64::INFINITY, |(f, s)| {
+        if s <= 0.0 { f } else { f * (s * len).exp() }
+    });
+    let sup_b = tb.map_or(f64::INFINITY, |(f, s)| {
+        if s >= 0.0 { f } else { f * (-s * len).exp() }
+    });
+    let mut v = sup_a.min(sup_b);
+    if let (Some((fa, al)), Some((fb, be))) = (ta, tb) {
+        if al > 0.0 && be < 0.0 {
+            let t = ((fb.ln() - fa.ln() + al * a - be * b) / (al - be)).clamp(a, b);
+            let at = (fa * (al * (t - a)).exp()).min(fb * (be * (t - b)).exp());
+            v = v.min(at);
+        }
+    }
+    let v = v * (1.0 + r);
+    if v.is_nan() { f64::INFINITY } else { v }
+}
+
+/// debug
+pub static DBG_UPG: core::sync::atomic::AtomicU64 = core::sync::atomic::AtomicU64::new(0);
+/// debug
+pub static DBG_PT: [core::sync::atomic::AtomicU64; 3] = [core::sync::atomic::AtomicU64::new(0), core::sync::atomic::AtomicU64::new(0), core::sync::atomic::AtomicU64::new(0)];
+/// An evaluated point of a column.
+#[derive(Clone, Copy, Debug)]
+struct Pt {
+    t: f64,
+    /// The first voxel centre `≥ t` and the first `> t`.
+    kge: usize,
+    kgt: usize,
+    /// `Σ f_i`.
+    f: f64,
+    /// Whether the derivatives `f_i'` are known at this point.
+    deriv: bool,
+}
+
+/// Reused buffers of the classifier.
+#[derive(Default)]
+struct Scratch {
+    /// Evaluated points.
+    pts: Vec<Pt>,
+    /// Per point and per hit of the region: `(f_i, f_i')` (`f_i'` NaN until
+    /// computed).
+    vals: Vec<(f64, f64)>,
+    /// Per hit of the region: the ray's distance to its line.
+    geo: Vec<Geo>,
+    /// Intervals to examine, as point indices.
+    stack: Vec<(usize, usize)>,
+}
+
+/// One column's context for the classifier.
+struct ColumnCtx<'a, S> {
+    sk: &'a ScalisSkeleton<f64, S>,
+    prims: &'a [Prim],
+    ray: &'a Ray<f64>,
+}
+
+impl<S: AsRef<[ScalisSegment<f64>]>> ColumnCtx<'_, S> {
+    /// The range of `Σ f_i` on `[pa, pb]` over the hits `rh` (module docs).
+    fn range(&self, rh: &[crate::scalis::PrimitiveHit<f64>], sc: &Scratch, ia: usize, ib: usize) -> (f64, f64) {
+        let nh = rh.len();
+        let (ta, tb) = (sc.pts[ia].t, sc.pts[ib].t);
+        let (mut lo, mut hi) = (0.0, 0.0);
+        for (q, h) in rh.iter().enumerate() {
+            if h.entry > tb || h.exit < ta {
+                continue;
+            }
+            let p = &self.prims[h.index as usize];
+            let (fa, da) = sc.vals[ia * nh + q];
+            let (fb, db) = sc.vals[ib * nh + q];
+            let (u, v) = (ta.max(h.entry), tb.min(h.exit));
+            let (l, up) = if p.constant {
+                let mut up = p.line_bound(&sc.geo[q], u, v);
+                if !da.is_nan() || !db.is_nan() {
+                    up = up.min(log_concave_sup(ta, fa, da, tb, fb, db, p.tau));
+                }
+                (fa.min(fb) * (1.0 - CLOSED_FORM_REL), up)
+            } else {
+                let r = crate::scalis::bounds::density_bounds(
+                    &self.sk.segments()[h.index as usize],
+                    self.ray,
+                    u,
+                    v,
+                    CLASSIFY_CELLS,
+                );
+                let partial = u > ta || v < tb;
+                (if partial { 0.0 } else { r.lo() }, r.hi())
+            };
+            lo += l;
+            hi += up;
+        }
+        (lo, hi)
+    }
+
+    /// Evaluates `Σ f_i` at `t` (the hits whose support contains `t`,
+    /// summed in hit order as the sampling does), with the derivatives
+    /// when `deriv`; appends the per-hit values to `vals`.
+    fn eval(
+        &self,
+        rh: &[crate::scalis::PrimitiveHit<f64>],
+        t: f64,
+        deriv: bool,
+        vals: &mut Vec<(f64, f64)>,
+        stats: &mut RayStats,
+    ) -> f64 {
+        let mut f = 0.0;
+        let segs = self.sk.segments();
+        if deriv {
+            let p = self.ray.at::<Jet<f64>>(t, t);
+            for h in rh {
+                let v = if h.entry <= t && h.exit >= t {
+                    stats.field_evals += 1;
+                    let j: Jet<f64> = segs[h.index as usize].density(p);
+                    (j.v, j.d1)
+                } else {
+                    (0.0, 0.0)
+                };
+                f += v.0;
+                vals.push(v);
+            }
+        } else {
+            let p = self.ray.at::<f64>(t, t);
+            for h in rh {
+                let v = if h.entry <= t && h.exit >= t {
+                    stats.field_evals += 1;
+                    (segs[h.index as usize].density(p), f64::NAN)
+                } else {
+                    (0.0, 0.0)
+                };
+                f += v.0;
+                vals.push(v);
+            }
+        }
+        f
+    }
+}
+
+/// Classifies the voxel centres of one column (module docs, "Classifying a
+/// column"); returns the cost (`steps`: intervals examined,
+/// `field_evals`: point evaluations of a primitive, `bound_evals`: interval
+/// ranges).
+#[allow(clippy::too_many_lines)]
+fn classify<S: AsRef<[ScalisSegment<f64>]>>(
+    cx: &ColumnCtx<'_, S>,
+    hits: &[crate::scalis::PrimitiveHit<f64>],
+    col: &mut Column<'_>,
+    sc: &mut Scratch,
+) -> RayStats {
+    let mut stats = RayStats::default();
+    let iso = cx.sk.iso();
+    crate::scalis::for_each_region(hits, |r0, r1, i, j| {
+        let rh = &hits[i..j];
+        let nh = rh.len();
+        let end = |t: f64| {
+            let kge = col.first_at_or_after(t);
+            let kgt = if kge < col.slices && col.centre(kge) == t {
+                kge + 1
+            } else {
+                kge
+            };
+            Pt {
+                t,
+                kge,
+                kgt,
+                f: 0.0,
+                deriv: true,
+            }
+        };
+        let (p0, p1) = (end(r0), end(r1));
+        if p0.kge >= p1.kgt {
+            return true; // no voxel centre in the region
+        }
+        sc.pts.clear();
+        sc.vals.clear();
+        sc.stack.clear();
+        sc.geo.clear();
+        // the region's ends: outside every support, f = f' = 0 exactly
+        for p in [p0, p1] {
+            sc.pts.push(p);
+            sc.vals.extend(core::iter::repeat_n((0.0, 0.0), nh));
+        }
+        sc.geo
+            .extend(rh.iter().map(|h| cx.prims[h.index as usize].geometry(cx.ray, col.len)));
+        sc.stack.push((0, 1));
+        while let Some((ia, ib)) = sc.stack.pop() {
+            // the centres strictly inside (ta, tb)
+            let (ka, kb) = (sc.pts[ia].kgt, sc.pts[ib].kge);
+            if ka >= kb {
+                continue; // no centre to decide inside
+            }
+            stats.steps += 1;
+            stats.bound_evals += 1;
+            let (ta, tb) = (sc.pts[ia].t, sc.pts[ib].t);
+            let (mut lo, mut hi) = cx.range(rh, sc, ia, ib);
+            // the line model's roots in (ta, tb) that can still be crossed
+            // there (an entering root after an outside `ta`, a leaving root
+            // before an outside `tb`): the split guesses
+            let (fa, fb) = (sc.pts[ia].f, sc.pts[ib].f);
+            let (out_a, out_b) = (!(fa > iso), !(fb > iso));
+            let mut model = f64::NAN;
+            for (q, h) in rh.iter().enumerate() {
+                if h.entry > tb || h.exit < ta {
+                    continue;
+                }
+                let (u, v) = cx.prims[h.index as usize].model_roots(&sc.geo[q]);
+                for (m, ok) in [(u, out_a), (v, out_b)] {
+                    if ok && m > ta && m < tb && !(m >= model) {
+                        model = m;
+                    }
+                }
+            }
+            let bracketed = out_a != out_b;
+            if !(hi < iso || lo > iso)
+                && !bracketed
+                && model.is_nan()
+                && !(sc.pts[ia].deriv && sc.pts[ib].deriv)
+            {
+                // probably root-free: the tangents of the derivatives may
+                // prove it
+                for ip in [ia, ib] {
+                    if !sc.pts[ip].deriv {
+                        let t = sc.pts[ip].t;
+                        let base = sc.vals.len();
+                        let before = stats.field_evals;
+                        let _ = cx.eval(rh, t, true, &mut sc.vals, &mut stats);
+                        DBG_UPG.fetch_add(u64::from(stats.field_evals - before), core::sync::atomic::Ordering::Relaxed);
+                        for q in 0..nh {
+                            sc.vals[ip * nh + q] = sc.vals[base + q];
+                        }
+                        sc.vals.truncate(base);
+                        sc.pts[ip].deriv = true;
+                    }
+                }
+                stats.bound_evals += 1;
+                (lo, hi) = cx.range(rh, sc, ia, ib);
+            }
+            if std::env::var_os("SLICE_DEBUG").is_some() {
+                eprintln!(
+                    "[{ta:.5}, {tb:.5}] k {ka}..{kb} lo {lo:.4} hi {hi:.4} F {fa:.4} {fb:.4} nh {nh} model {model:.5}"
+                );
+            }
+            if hi < iso {
+                continue; // outside on [ta, tb]
+            }
+            if lo > iso {
+                for k in ka..kb {
+                    col.set(k);
+                }
+                continue;
+            }
+            // Split at the centre nearest that model root, else at the
+            // secant's root of the normalized field g(Σf) − 1 (≈ D² − 1 of
+            // the nearest line: nearly quadratic along the ray, thesis
+            // §1.2) on a bracketed interval, else at the middle.
+            let guess = if !model.is_nan() {
+                model
+            } else if bracketed {
+                let ga = cx.sk.segments()[0].g(fa) - 1.0;
+                let gb = cx.sk.segments()[0].g(fb) - 1.0;
+                let g = ta + (tb - ta) * ga / (ga - gb);
+                if g > ta && g < tb { g } else { 0.5 * (ta + tb) }
+            } else {
+                0.5 * (ta + tb)
+            };
+            let g = (guess / col.len * col.slices as f64 - 0.5).round();
+            let k = if g > ka as f64 {
+                (g as usize).min(kb - 1)
+            } else {
+                ka
+            };
+            let t = col.centre(k);
+            let before = stats.field_evals;
+            let f = cx.eval(rh, t, false, &mut sc.vals, &mut stats);
+            let kind = if !model.is_nan() { 0 } else if bracketed { 1 } else { 2 };
+            DBG_PT[kind].fetch_add(u64::from(stats.field_evals - before), core::sync::atomic::Ordering::Relaxed);
+            if f > iso {
+                col.set(k);
+            }
+            let ic = sc.pts.len();
+            sc.pts.push(Pt {
+                t,
+                kge: k,
+                kgt: k + 1,
+                f,
+                deriv: false,
+            });
+            sc.stack.push((ic, ib));
+            sc.stack.push((ia, ic));
+        }
+        true
+    });
+    stats
 }
 
 #[cfg(test)]
