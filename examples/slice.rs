@@ -60,13 +60,24 @@ fn main() -> ExitCode {
             height: size,
             slices: n,
         };
-        let c = Instant::now();
+        let (c, cpu0) = (Instant::now(), cpu_time());
         let r = if sample {
             sample_scalis(w.field(), sc.bounds(), s, &params)
         } else {
             slice_scalis(w.field(), sc.bounds(), s, &params)
         };
-        (r, c.elapsed().as_secs_f64())
+        let wall = c.elapsed().as_secs_f64();
+        // CPU time of this thread when available (the figures to compare
+        // on a loaded machine), else the wall time
+        let t = match (cpu0, cpu_time()) {
+            (Some(a), Some(b)) => b - a,
+            _ => wall,
+        };
+        eprintln!(
+            "  ({n} slices, {}: {t:.2} s CPU, {wall:.2} s wall)",
+            if sample { "sampling" } else { "slicing" }
+        );
+        (r, t)
     };
     let (a, ta) = run(slices, false);
     let (b, tb) = run(2 * slices, false);
@@ -86,7 +97,7 @@ fn main() -> ExitCode {
             }
         }
     }
-    println!("{scene}: {size}x{size}, release, 1 thread");
+    println!("{scene}: {size}x{size}, release, 1 thread, times in CPU seconds of the thread");
     println!(
         "slicing, {slices} slices: {ta:.2} s ({} intervals, {} point evaluations of a primitive, {} ranges)",
         a.stats.steps, a.stats.field_evals, a.stats.bound_evals
@@ -125,6 +136,14 @@ fn main() -> ExitCode {
         }
     }
     ExitCode::SUCCESS
+}
+
+/// The CPU time of the calling thread in seconds (Linux
+/// `/proc/thread-self/schedstat`), `None` elsewhere.
+fn cpu_time() -> Option<f64> {
+    let s = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    let ns: f64 = s.split_whitespace().next()?.parse().ok()?;
+    Some(ns * 1e-9)
 }
 
 fn bad(msg: &str) -> ExitCode {

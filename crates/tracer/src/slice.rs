@@ -322,7 +322,11 @@ impl Column<'_> {
     /// The first centre `≥ t` (may be `slices`).
     fn first_at_or_after(&self, t: f64) -> usize {
         let g = (t / self.len * self.slices as f64 - 0.5).ceil();
-        let mut k = if g > 0.0 { (g as usize).min(self.slices) } else { 0 };
+        let mut k = if g > 0.0 {
+            (g as usize).min(self.slices)
+        } else {
+            0
+        };
         // exact against `centre`, whatever the rounding of the guess
         while k > 0 && self.centre(k - 1) >= t {
             k -= 1;
@@ -408,9 +412,12 @@ fn run<S: AsRef<[ScalisSegment<f64>]>>(
                             stats = stats + st;
                         }
                         How::Sample => {
-                            stats.field_evals = stats.field_evals.saturating_add(
-                                fill_by_sampling(&sk, list.hits(), &ray, &mut col),
-                            );
+                            stats.field_evals = stats.field_evals.saturating_add(fill_by_sampling(
+                                &sk,
+                                list.hits(),
+                                &ray,
+                                &mut col,
+                            ));
                         }
                     }
                 }
@@ -500,7 +507,10 @@ fn fill_by_sampling<S: AsRef<[ScalisSegment<f64>]>>(
     let segs = sk.segments();
     let mut evals = 0u32;
     // only the centres inside some support can be inside
-    let (first, last) = (hits[0].entry, hits.iter().fold(hits[0].exit, |m, h| m.max(h.exit)));
+    let (first, last) = (
+        hits[0].entry,
+        hits.iter().fold(hits[0].exit, |m, h| m.max(h.exit)),
+    );
     let mut k = col.first_at_or_after(first);
     while k < col.slices {
         let t = col.centre(k);
@@ -650,7 +660,11 @@ impl Prim {
         // ∫_0^w (w² − v²)^m dv = c_m w^{2m+1} / 2
         let half = 0.5 * self.cm * w * w2.powi(self.m);
         let mut i = if delta > 0.0 {
-            if delta >= w { 0.0 } else { self.power_integral(w, delta, w) }
+            if delta >= w {
+                0.0
+            } else {
+                self.power_integral(w, delta, w)
+            }
         } else {
             2.0 * half
         };
@@ -995,14 +1009,17 @@ fn classify<S: AsRef<[ScalisSegment<f64>]>>(
         sc.mono.clear();
         sc.model.clear();
         sc.deferred.clear();
-        sc.mono.extend(core::iter::repeat_n((f64::NEG_INFINITY, f64::INFINITY), nh));
+        sc.mono
+            .extend(core::iter::repeat_n((f64::NEG_INFINITY, f64::INFINITY), nh));
         // the region's ends: outside every support, f = f' = 0 exactly
         for p in [p0, p1] {
             sc.pts.push(p);
             sc.vals.extend(core::iter::repeat_n((0.0, 0.0), nh));
         }
-        sc.geo
-            .extend(rh.iter().map(|h| cx.prims[h.index as usize].geometry(cx.ray, col.len)));
+        sc.geo.extend(
+            rh.iter()
+                .map(|h| cx.prims[h.index as usize].geometry(cx.ray, col.len)),
+        );
         sc.model.extend(
             rh.iter()
                 .zip(&sc.geo)
@@ -1046,37 +1063,31 @@ fn classify<S: AsRef<[ScalisSegment<f64>]>>(
                 }
             }
             let bracketed = out_a != out_b;
-            if !(hi < iso || lo > iso)
-                && !bracketed
-                && model.is_nan()
-                && !(sc.pts[ia].deriv && sc.pts[ib].deriv)
-                && !second_pass
-            {
+            let decided = hi < iso || lo > iso;
+            // probably root-free: same sign at both ends, no model root
+            let both_jets = sc.pts[ia].deriv && sc.pts[ib].deriv;
+            let probably_free = !(decided || bracketed || both_jets) && model.is_nan();
+            if probably_free && !second_pass {
                 // probably root-free: look again once the rest of the
                 // region has added monotony certificates
                 sc.deferred.push((ia, ib, secant));
                 continue;
             }
-            if !(hi < iso || lo > iso)
-                && !bracketed
-                && model.is_nan()
-                && !(sc.pts[ia].deriv && sc.pts[ib].deriv)
-            {
-                // probably root-free: the tangents of the derivatives may
-                // prove it
+            if probably_free {
+                // the tangents of the derivatives may prove it
                 for ip in [ia, ib] {
                     if !sc.pts[ip].deriv {
                         let t = sc.pts[ip].t;
                         let base = sc.vals.len();
                         let _ = cx.eval(rh, t, true, &mut sc.vals, &mut stats);
-                        for q in 0..nh {
-                            sc.vals[ip * nh + q] = sc.vals[base + q];
-                        }
+                        sc.vals.copy_within(base..base + nh, ip * nh);
                         sc.vals.truncate(base);
                         sc.pts[ip].deriv = true;
-                        for q in 0..nh {
+                        for (q, h) in rh.iter().enumerate() {
                             let (f, d) = sc.vals[ip * nh + q];
-                            let margin = 2.0 * CLOSED_FORM_REL * (d.abs() + f / cx.prims[rh[q].index as usize].tau);
+                            let margin = 2.0
+                                * CLOSED_FORM_REL
+                                * (d.abs() + f / cx.prims[h.index as usize].tau);
                             if f > 0.0 && d > margin {
                                 sc.mono[q].0 = sc.mono[q].0.max(t);
                             } else if f > 0.0 && d < -margin {
@@ -1133,7 +1144,11 @@ fn classify<S: AsRef<[ScalisSegment<f64>]>>(
             });
             // monotony certificates from the new pairs of values
             for q in 0..nh {
-                let (fa_, fc, fb_) = (sc.vals[ia * nh + q].0, sc.vals[ic * nh + q].0, sc.vals[ib * nh + q].0);
+                let (fa_, fc, fb_) = (
+                    sc.vals[ia * nh + q].0,
+                    sc.vals[ic * nh + q].0,
+                    sc.vals[ib * nh + q].0,
+                );
                 for (x1, f1, x2, f2) in [(ta, fa_, t, fc), (t, fc, tb, fb_)] {
                     if f1 > 0.0 && f2 > 0.0 {
                         if f1 > f2 * (1.0 + 4.0 * CLOSED_FORM_REL) {
@@ -1148,9 +1163,17 @@ fn classify<S: AsRef<[ScalisSegment<f64>]>>(
             // (regula falsi): the next split of that bracket is a bisection
             let (mut sl, mut sr) = (0, 0);
             if by_secant {
-                let left_bracketed = out_a != !(f > iso);
-                sl = if left_bracketed && secant == SECANT_RIGHT { SECANT_STUCK } else { SECANT_RIGHT };
-                sr = if !left_bracketed && secant == SECANT_LEFT { SECANT_STUCK } else { SECANT_LEFT };
+                let left_bracketed = out_a == (f > iso);
+                sl = if left_bracketed && secant == SECANT_RIGHT {
+                    SECANT_STUCK
+                } else {
+                    SECANT_RIGHT
+                };
+                sr = if !left_bracketed && secant == SECANT_LEFT {
+                    SECANT_STUCK
+                } else {
+                    SECANT_LEFT
+                };
             }
             sc.stack.push((ic, ib, sr));
             sc.stack.push((ia, ic, sl));
@@ -1282,7 +1305,10 @@ mod tests {
             let a = seg.segment().a();
             let u = seg.segment().axis();
             // rays near the segment, some beyond its ends
-            for (j, off) in [(0.3, 0.5), (-0.2, 0.9), (1.1, 0.2), (0.5, 1.2)].iter().enumerate() {
+            for (j, off) in [(0.3, 0.5), (-0.2, 0.9), (1.1, 0.2), (0.5, 1.2)]
+                .iter()
+                .enumerate()
+            {
                 let l = seg.segment().length();
                 let c = [0, 1, 2].map(|k| a[k] + u[k] * l * off.0);
                 let dir = [0.0, 0.0, 1.0];
@@ -1292,10 +1318,18 @@ mod tests {
                 let g = p.geometry(&ray, 2.0);
                 for (t0, t1) in [(0.0, 2.0), (0.9, 1.0), (0.97, 1.03), (1.0, 1.1)] {
                     let bound = p.line_bound(&g, t0, t1);
-                    let ts: Vec<f64> = (0..=200).map(|n| t0 + (t1 - t0) * f64::from(n) / 200.0).collect();
-                    let fs: Vec<f64> = ts.iter().map(|&t| seg.density(ray.at::<f64>(t, t))).collect();
+                    let ts: Vec<f64> = (0..=200)
+                        .map(|n| t0 + (t1 - t0) * f64::from(n) / 200.0)
+                        .collect();
+                    let fs: Vec<f64> = ts
+                        .iter()
+                        .map(|&t| seg.density(ray.at::<f64>(t, t)))
+                        .collect();
                     let fmax = fs.iter().copied().fold(0.0, f64::max);
-                    assert!(fmax <= bound, "segment {i}: {fmax} > {bound} on [{t0}, {t1}]");
+                    assert!(
+                        fmax <= bound,
+                        "segment {i}: {fmax} > {bound} on [{t0}, {t1}]"
+                    );
                     // the tangent bound from the end-points' jets
                     let jet = |t: f64| -> (f64, f64) {
                         let v: Jet<f64> = seg.density(ray.at::<Jet<f64>>(t, t));
@@ -1306,7 +1340,10 @@ mod tests {
                     assert!(fmax <= sup, "segment {i}: {fmax} > {sup} on [{t0}, {t1}]");
                     // and the unimodal lower bound
                     let fmin = fs.iter().copied().fold(f64::INFINITY, f64::min);
-                    assert!(fmin >= fa.min(fb) * (1.0 - 1e-9), "{fmin} < min({fa}, {fb})");
+                    assert!(
+                        fmin >= fa.min(fb) * (1.0 - 1e-9),
+                        "{fmin} < min({fa}, {fb})"
+                    );
                     checked += usize::from(fmax > 0.0);
                 }
             }
@@ -1331,7 +1368,10 @@ mod tests {
                 q += (w * w - v * v).powi(p.m) * h;
             }
             let got = p.power_integral(w, a, b);
-            assert!((got - q).abs() <= 1e-6 * q.max(1e-12), "[{a}, {b}]: {got} vs {q}");
+            assert!(
+                (got - q).abs() <= 1e-6 * q.max(1e-12),
+                "[{a}, {b}]: {got} vs {q}"
+            );
         }
         // the half chord in closed form: c_m w^{2m+1} / 2
         let half = 0.5 * p.cm * w * (w * w).powi(p.m);
