@@ -382,7 +382,7 @@ fn first_unit_root<T: Real>(c0: T, c1: T, c2: T) -> Option<T> {
 /// two quadratic Bézier pieces on the halves, middle ordinate
 /// `(ga + gb)/2 + L/8·(da − db)`), each piece rational with middle weight
 /// `weight` (its roots are those of the weighted numerator).
-fn oracle<T: Real>(a: T, b: T, ga: T, da: T, gb: T, db: T, weight: T) -> Option<T> {
+pub(crate) fn oracle<T: Real>(a: T, b: T, ga: T, da: T, gb: T, db: T, weight: T) -> Option<T> {
     let l = b - a;
     let mid = (ga + gb) * T::HALF + l * T::from_f64(0.125) * (da - db);
     let quarter = l * T::from_f64(0.25);
