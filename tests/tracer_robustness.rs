@@ -256,7 +256,15 @@ fn collapsed_validity_does_not_crawl() {
             t: 0.0,
             side: Side::Touch,
         }; 4];
-        let tr = trace(scene.field(), &ray, span, method, Mode::Opaque, &params, &mut roots);
+        let tr = trace(
+            scene.field(),
+            &ray,
+            span,
+            method,
+            Mode::Opaque,
+            &params,
+            &mut roots,
+        );
         assert_eq!(tr.status, Status::Finished, "{method}: {tr:?}");
         assert_eq!(tr.roots, 1, "{method}: {tr:?}");
         assert!(
@@ -265,5 +273,52 @@ fn collapsed_validity_does_not_crawl() {
             roots[0].t
         );
         assert!(tr.stats.steps < 200, "{method}: {} steps", tr.stats.steps);
+    }
+}
+
+/// Regression: a ray of `hrbf-8` (ray 841 of 5,000, seed 1) on which
+/// `interval` used to give up in transparent mode: after the entering root
+/// the field stays within ~3·10⁻⁶ of 0 for 0.022 along the ray, and the
+/// interval extension only excluded 0 on pieces ~10⁻⁶ long (24,000 steps).
+/// Leaves with the same sign at both ends now try the forward linear
+/// range first (`bisect.rs`).
+#[test]
+fn near_tangent_stretch_does_not_crawl() {
+    use boundtrace::inclusion::Ray;
+    use boundtrace::tracer::{Root, Side, Status, trace};
+    let scene = Scene::<f64>::build("hrbf-8", DEFAULT_SEED).unwrap();
+    let ray = Ray::new(
+        [0.9532908965343808, 0.1842489809118596, -0.3234156990495527],
+        [-1.0, 0.0, 0.0],
+    );
+    let span = [0.0, 1.9065817930687616];
+    // The dense reference's roots on this ray.
+    let reference = [
+        (0.8551681442413626, Side::Entering),
+        (0.8772272513671313, Side::Leaving),
+    ];
+    let params = Params::new();
+    let mut roots = [Root {
+        t: 0.0,
+        side: Side::Touch,
+    }; 8];
+    let tr = trace(
+        scene.field(),
+        &ray,
+        span,
+        Method::Interval,
+        Mode::Transparent,
+        &params,
+        &mut roots,
+    );
+    assert_eq!(tr.status, Status::Finished, "{tr:?}");
+    assert_eq!(tr.roots, 2, "{tr:?}");
+    for (r, (t, side)) in roots.iter().zip(reference) {
+        assert_eq!(r.side, side);
+        assert!(
+            (r.t - t).abs() <= params.eps,
+            "root {} vs reference {t}",
+            r.t
+        );
     }
 }

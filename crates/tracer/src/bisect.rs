@@ -22,7 +22,7 @@ use crate::march::{Next, TOUCH_DEPTH, Walk, value_enclosure};
 use crate::method::{Mode, Params};
 use crate::trace::{Root, Side, Status, Trace};
 use boundtrace_ia_core::{Affine, Interval, Real};
-use boundtrace_inclusion::{Field, Ray};
+use boundtrace_inclusion::{Field, ForwardLinear, Ray};
 
 /// The bisection stack depth (enough for `(t1 − t0) / eps` up to `2⁶³`).
 pub const STACK_CAPACITY: usize = 64;
@@ -126,6 +126,23 @@ pub(crate) fn bisect<T: Real, F: Field<T>, M: Narrow<T>>(
             (false, true) => Side::Entering,
             (true, false) => Side::Leaving,
             _ if splittable && b2 - a2 > fine => {
+                // Same sign at both ends. On a near-tangent stretch (the
+                // field within ~10⁻⁶ of 0 over a long span) the interval
+                // extension's dependency overestimation would only exclude
+                // 0 on pieces ~100× shorter than `eps`; a first-order
+                // enclosure (the range of the forward linear bound, sound
+                // like every bound of `boundtrace-inclusion`) usually proves
+                // the whole leaf root-free at once.
+                w.stats.bound_evals += 1;
+                let lin: ForwardLinear<T> = field.eval(ray.at(a2, b2));
+                let r = lin.range();
+                if lin.is_valid()
+                    && lin.validity() >= b2 - a2
+                    && !r.is_empty()
+                    && !r.contains(T::ZERO)
+                {
+                    continue;
+                }
                 stack[sp] = (mid, b2);
                 stack[sp + 1] = (a2, mid);
                 sp += 2;
