@@ -336,7 +336,73 @@ impl<T: Real> Ctx<'_, T> {
             }
             stage += 1;
         }
+        if r.contains(T::ZERO) {
+            stats.bound_evals += 1;
+            let tight = Interval::point(self.iso) - self.tight_density(hits, a, b);
+            let c = r.intersection(tight);
+            if !c.is_empty() {
+                r = c;
+            }
+        }
         r
+    }
+
+    /// The last stage of [`range`](Self::range), for the grazing stretches
+    /// where the field stays close to the iso-value (the cell sums and the
+    /// closed form's Lipschitz lines are much wider than its variation
+    /// there): a sound enclosure of the density on `[a, b]`, the
+    /// intersection of
+    ///
+    /// - the sum over the hits of per-primitive ranges: the log-concave
+    ///   bounds of constant-radius segments
+    ///   ([`bounds::log_concave_range`]) intersected with the range of the
+    ///   primitive's quadratic Taylor model ([`bounds::taylor_model`]), the
+    ///   cell sums ([`FINE_CELLS`]) when neither applies;
+    /// - the range of the **sum** of the quadratic Taylor models (a
+    ///   primitive without one enters as its constant range), which keeps
+    ///   the cancellations between primitives.
+    fn tight_density(&self, hits: &[PrimitiveHit<T>], a: T, b: T) -> Interval<T> {
+        let zero = Interval::point(T::ZERO);
+        let mut sum = zero;
+        let mut model = [zero; 3];
+        for h in hits {
+            if h.entry > b {
+                break;
+            }
+            if h.exit < a {
+                continue;
+            }
+            let s = self.seg(h);
+            // both bounds hold on the whole line (the closed form is exactly
+            // 0 outside the support), so [a, b] is used as is
+            let lc = bounds::log_concave_range(s, self.ray, a, b);
+            let tm = bounds::taylor_model(s, self.ray, a, b);
+            let tr = tm.map(|m| bounds::taylor_model_range(m, a, b));
+            let mut per = match (lc, tr) {
+                (Some(x), Some(y)) => {
+                    let c = x.intersection(y);
+                    if c.is_empty() { x } else { c }
+                }
+                (Some(x), None) | (None, Some(x)) => x,
+                (None, None) => {
+                    let (u, v) = (a.max(h.entry), b.min(h.exit));
+                    let d = bounds::density_bounds(s, self.ray, u, v, FINE_CELLS);
+                    if u > a || v < b { d.hull(zero) } else { d }
+                }
+            };
+            per = Interval::new(per.lo().max(T::ZERO), per.hi());
+            sum = sum + per;
+            match tm {
+                Some(m) => {
+                    model[0] = model[0] + m[0];
+                    model[1] = model[1] + m[1];
+                    model[2] = model[2] + m[2];
+                }
+                None => model[0] = model[0] + per,
+            }
+        }
+        let c = sum.intersection(bounds::taylor_model_range(model, a, b));
+        if c.is_empty() { sum } else { c }
     }
 }
 
