@@ -256,7 +256,15 @@ fn collapsed_validity_does_not_crawl() {
             t: 0.0,
             side: Side::Touch,
         }; 4];
-        let tr = trace(scene.field(), &ray, span, method, Mode::Opaque, &params, &mut roots);
+        let tr = trace(
+            scene.field(),
+            &ray,
+            span,
+            method,
+            Mode::Opaque,
+            &params,
+            &mut roots,
+        );
         assert_eq!(tr.status, Status::Finished, "{method}: {tr:?}");
         assert_eq!(tr.roots, 1, "{method}: {tr:?}");
         assert!(

@@ -220,7 +220,11 @@ pub fn density_bounds<T: Real>(
 
 /// The density `f` of `seg` and its derivative `f'` along the ray at `t`,
 /// as sound enclosures (the closed form in interval arithmetic).
-fn value_and_slope<T: Real>(seg: &ScalisSegment<T>, ray: &Ray<T>, t: T) -> (Interval<T>, Interval<T>) {
+fn value_and_slope<T: Real>(
+    seg: &ScalisSegment<T>,
+    ray: &Ray<T>,
+    t: T,
+) -> (Interval<T>, Interval<T>) {
     let p = ray.at::<Interval<T>>(t, t);
     let f: Interval<T> = seg.density(p);
     let g = seg.gradient_generic(p);
@@ -287,10 +291,18 @@ pub fn log_concave_range<T: Real>(
         (Interval::point(fb.hi()) * (Interval::point(s) * (Interval::point(t) - ib)).exp()).hi()
     };
     let sup_a = sa.map_or(T::INFINITY, |s| {
-        if s <= T::ZERO { fa.hi() } else { tangent_a(b, s) }
+        if s <= T::ZERO {
+            fa.hi()
+        } else {
+            tangent_a(b, s)
+        }
     });
     let sup_b = sb.map_or(T::INFINITY, |s| {
-        if s >= T::ZERO { fb.hi() } else { tangent_b(a, s) }
+        if s >= T::ZERO {
+            fb.hi()
+        } else {
+            tangent_b(a, s)
+        }
     });
     let mut hi = sup_a.min(sup_b);
     if let (Some(al), Some(be)) = (sa, sb) {
@@ -398,5 +410,68 @@ mod tests {
         // far from the support: exactly zero
         let far = density_bounds(&s, &Ray::new([5.0, 5.0, 5.0], [1.0, 0.0, 0.0]), 0.0, 1.0, 8);
         assert_eq!((far.lo(), far.hi()), (0.0, 0.0));
+    }
+
+    #[test]
+    fn tight_ranges_contain_sampled_values_and_beat_the_cell_sums() {
+        let k = SegmentKernel::compact_polynomial(6, 2.0).unwrap();
+        let constant = ScalisSegment::new(
+            Segment::new([0.0, 0.0, 0.0], 0.15, [1.0, 0.3, 0.0], 0.15).unwrap(),
+            k,
+            1.0,
+        )
+        .unwrap();
+        let varying = ScalisSegment::new(
+            Segment::new([0.0, 0.0, 0.0], 0.1, [1.0, 0.3, 0.0], 0.2).unwrap(),
+            k,
+            1.0,
+        )
+        .unwrap();
+        assert!(is_log_concave(&constant) && !is_log_concave(&varying));
+        assert!(
+            log_concave_range(&varying, &Ray::new([0.0; 3], [1.0, 0.0, 0.0]), 0.0, 1.0).is_none()
+        );
+        // grazing rays, across the support's boundary, through the middle
+        let rays = [
+            Ray::new([-0.5, 0.25, 0.0], [1.0, 0.28, 0.0]),
+            Ray::new([0.4, -1.0, 0.05], [0.1, 1.0, 0.02]),
+            Ray::new([0.5, 0.15, -1.0], [0.0, 0.0, 1.0]),
+        ];
+        let mut tighter = 0;
+        for s in [&constant, &varying] {
+            for ray in &rays {
+                for (a, b) in [
+                    (0.0, 2.0),
+                    (0.6, 1.0),
+                    (0.9, 1.05),
+                    (1.0, 1.002),
+                    (0.5, 0.5),
+                ] {
+                    let lc = log_concave_range(s, ray, a, b);
+                    let tm = taylor_model(s, ray, a, b).map(|m| taylor_model_range(m, a, b));
+                    assert_eq!(lc.is_some(), is_log_concave(s));
+                    let tm = tm.expect("degree 6 has a second derivative");
+                    for i in 0..=200 {
+                        let t = a + (b - a) * f64::from(i) / 200.0;
+                        let f: f64 = s.density(ray.at::<f64>(t, t));
+                        if let Some(r) = lc {
+                            assert!(r.contains(f), "log-concave [{a}, {b}]: {r:?} misses {f}");
+                        }
+                        assert!(tm.contains(f), "Taylor [{a}, {b}]: {tm:?} misses {f}");
+                    }
+                    let cells = density_bounds(s, ray, a, b, 64);
+                    let best = lc.map_or(tm.width(), |r| r.width().min(tm.width()));
+                    if b - a < 0.01 && cells.width() > 0.0 {
+                        assert!(
+                            best < cells.width(),
+                            "[{a}, {b}]: {best} !< {}",
+                            cells.width()
+                        );
+                        tighter += 1;
+                    }
+                }
+            }
+        }
+        assert!(tighter > 0);
     }
 }
