@@ -20,7 +20,10 @@
 //!   per-primitive sound ranges (ch. 2 §2.1, by skeleton cells:
 //!   [`bounds::density_bounds`], evaluated only for the primitives whose
 //!   support meets the interval) that excludes the iso-value proves the
-//!   interval root-free;
+//!   interval root-free (when the cell sums cannot decide: the closed
+//!   form's range on short intervals, then tight ranges for grazing
+//!   stretches — [`bounds::log_concave_range`] for constant radii,
+//!   [`bounds::taylor_model`] per primitive and summed);
 //!   otherwise the interval is split where the oracle of §1.4 predicts the
 //!   root: the first root of the smooth piecewise-quadratic Bézier
 //!   interpolant (eq. 1.10) of the Hermite data of the **normalized field**
@@ -297,8 +300,9 @@ impl<T: Real> Ctx<'_, T> {
     /// hit's `[entry, exit]`, joined with `0` when that is only a part;
     /// [`CELLS`] cells, then [`FINE_CELLS`] when the first sum cannot
     /// decide, then intersected with the closed form's range on short
-    /// intervals, [`CLOSED_FORM_WIDTH`]). `stats` counts one bound
-    /// evaluation per stage.
+    /// intervals, [`CLOSED_FORM_WIDTH`]; then intersected with
+    /// [`tight_density`](Self::tight_density)'s range). `stats` counts one
+    /// bound evaluation per stage.
     fn range(&self, hits: &[PrimitiveHit<T>], a: T, b: T, stats: &mut RayStats) -> Interval<T> {
         let zero = Interval::point(T::ZERO);
         let mut r = Interval::ENTIRE;
