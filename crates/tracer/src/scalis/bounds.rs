@@ -30,7 +30,7 @@
 use boundtrace_fields::homothetic::SegmentKernel;
 use boundtrace_fields::scalis::ScalisSegment;
 use boundtrace_ia_core::{Interval, Real};
-use boundtrace_inclusion::Ray;
+use boundtrace_inclusion::{ForwardQuadratic, Ray};
 
 #[inline]
 fn sub<T: Real>(a: [T; 3], b: [T; 3]) -> [T; 3] {
@@ -218,6 +218,141 @@ pub fn density_bounds<T: Real>(
     }
 }
 
+/// The density `f` of `seg` and its derivative `f'` along the ray at `t`,
+/// as sound enclosures (the closed form in interval arithmetic).
+fn value_and_slope<T: Real>(
+    seg: &ScalisSegment<T>,
+    ray: &Ray<T>,
+    t: T,
+) -> (Interval<T>, Interval<T>) {
+    let p = ray.at::<Interval<T>>(t, t);
+    let f: Interval<T> = seg.density(p);
+    let g = seg.gradient_generic(p);
+    let d = ray.dir;
+    (f, g[0] * d[0] + g[1] * d[1] + g[2] * d[2])
+}
+
+/// Whether [`log_concave_range`] applies to `seg`: a compact kernel and a
+/// constant radius (`r_a = r_b > 0`).
+pub fn is_log_concave<T: Real>(seg: &ScalisSegment<T>) -> bool {
+    let sk = seg.segment();
+    matches!(seg.kernel(), SegmentKernel::CompactPolynomial { degree, .. } if degree >= 2)
+        && sk.ra() == sk.rb()
+        && sk.ra() > T::ZERO
+}
+
+/// A sound enclosure of the density of a constant-radius compact segment
+/// ([`is_log_concave`]) on the ray interval `[a, b]` from its values and
+/// derivatives at the two ends, or `None` when it does not apply.
+///
+/// Such a density is log-concave along every line (proof in the module
+/// docs of the `slice` module, "Log-concavity": the kernel
+/// `(1 − u/σ²)₊^m` is log-concave and non-increasing in `u`, `u` is convex
+/// in `(t, s)` for a constant radius, Prékopa–Leindler), hence unimodal —
+/// `f ≥ min(f(a), f(b))` on `[a, b]` — and `ln f` lies below its tangents
+/// at `a` and `b`: `f(t) ≤ f(a)·e^{s_a (t − a)}` with `s_a = f'(a)/f(a)`,
+/// likewise at `b`. Unlike the column classifier of the `slice` module, which
+/// trusts the `f64` closed form to a relative accuracy, everything here is
+/// in interval arithmetic: the end values and slopes are enclosures, the
+/// exponentials are outward rounded, and the crossing of the two tangents
+/// only needs to be approximate (for any `t'`, `max(A(t'), B(t'))` bounds
+/// `min(A, B)` on `[a, b]` when `A` increases and `B` decreases). The
+/// error is of order `(b − a)²` times the curvature of `ln f`, much
+/// smaller than the cell sums' ([`density_bounds`]) on short intervals.
+pub fn log_concave_range<T: Real>(
+    seg: &ScalisSegment<T>,
+    ray: &Ray<T>,
+    a: T,
+    b: T,
+) -> Option<Interval<T>> {
+    if !is_log_concave(seg) || !(a <= b) {
+        return None;
+    }
+    let (fa, da) = value_and_slope(seg, ray, a);
+    let (fb, db) = value_and_slope(seg, ray, b);
+    if fa.is_empty() || fb.is_empty() || !fa.hi().is_finite() || !fb.hi().is_finite() {
+        return None;
+    }
+    let lo = fa.lo().min(fb.lo()).max(T::ZERO);
+    let ia = Interval::point(a);
+    let ib = Interval::point(b);
+    // ln f(t) ≤ ln f(a) + s_a·(t − a) for t ≥ a: the largest slope
+    let sa = (fa.lo() > T::ZERO && !da.is_empty())
+        .then(|| (da / fa).hi())
+        .filter(|s| !s.is_nan());
+    // ln f(t) ≤ ln f(b) + s_b·(t − b) for t ≤ b: the smallest slope
+    let sb = (fb.lo() > T::ZERO && !db.is_empty())
+        .then(|| (db / fb).lo())
+        .filter(|s| !s.is_nan());
+    let tangent_a = |t: T, s: T| {
+        (Interval::point(fa.hi()) * (Interval::point(s) * (Interval::point(t) - ia)).exp()).hi()
+    };
+    let tangent_b = |t: T, s: T| {
+        (Interval::point(fb.hi()) * (Interval::point(s) * (Interval::point(t) - ib)).exp()).hi()
+    };
+    let sup_a = sa.map_or(T::INFINITY, |s| {
+        if s <= T::ZERO {
+            fa.hi()
+        } else {
+            tangent_a(b, s)
+        }
+    });
+    let sup_b = sb.map_or(T::INFINITY, |s| {
+        if s >= T::ZERO {
+            fb.hi()
+        } else {
+            tangent_b(a, s)
+        }
+    });
+    let mut hi = sup_a.min(sup_b);
+    if let (Some(al), Some(be)) = (sa, sb) {
+        if al > T::ZERO && be < T::ZERO {
+            // approximately where the two tangents cross (any point is sound)
+            let t = (fb.hi().ln() - fa.hi().ln() + al * a - be * b) / (al - be);
+            if t.is_finite() {
+                let t = t.max(a).min(b);
+                hi = hi.min(tangent_a(t, al).max(tangent_b(t, be)));
+            }
+        }
+    }
+    // the segment's values at the ends bound it from above too
+    let hi = hi.max(fa.hi()).max(fb.hi());
+    (lo <= hi && !hi.is_nan()).then(|| Interval::new(lo, hi))
+}
+
+/// The quadratic Taylor model of the density of `seg` on the ray interval
+/// `[a, b]`: enclosures of `f(a)`, `f'(a)` and of `f''` on `[a, b]` (the
+/// closed forms of [`ScalisSegment::density`],
+/// [`ScalisSegment::gradient_generic`] and
+/// [`ScalisSegment::second_derivative_generic`] in interval arithmetic), so
+/// that `f(a + τ) ∈ f(a) + f'(a)·τ + f''·τ²/2` for `τ ∈ [0, b − a]`
+/// (forward-inclusion paper §6.1). `None` where the second derivative has
+/// no closed form (degree 2, Cauchy kernel). These models add: a sum of
+/// primitives' models bounds the sum of their densities, with cancellations
+/// between primitives taken into account.
+pub fn taylor_model<T: Real>(
+    seg: &ScalisSegment<T>,
+    ray: &Ray<T>,
+    a: T,
+    b: T,
+) -> Option<[Interval<T>; 3]> {
+    let d2 = seg.second_derivative_generic(ray.at::<Interval<T>>(a, b), ray.dir)?;
+    let (f0, d1) = value_and_slope(seg, ray, a);
+    if f0.is_empty() || d1.is_empty() || d2.is_empty() {
+        return None;
+    }
+    Some([f0, d1, d2])
+}
+
+/// The range on the ray interval `[a, b]` of a (summed) quadratic Taylor
+/// model `[f0, d1, d2]` built at `a` ([`taylor_model`]), sound (outward
+/// rounded; the polynomial is bounded on `τ ∈ [0, h]` with `h` the length
+/// rounded up).
+pub fn taylor_model_range<T: Real>(model: [Interval<T>; 3], a: T, b: T) -> Interval<T> {
+    let h = (Interval::point(b) - Interval::point(a)).hi().max(T::ZERO);
+    ForwardQuadratic::taylor(model[0], model[1], model[2], h).range()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -275,5 +410,68 @@ mod tests {
         // far from the support: exactly zero
         let far = density_bounds(&s, &Ray::new([5.0, 5.0, 5.0], [1.0, 0.0, 0.0]), 0.0, 1.0, 8);
         assert_eq!((far.lo(), far.hi()), (0.0, 0.0));
+    }
+
+    #[test]
+    fn tight_ranges_contain_sampled_values_and_beat_the_cell_sums() {
+        let k = SegmentKernel::compact_polynomial(6, 2.0).unwrap();
+        let constant = ScalisSegment::new(
+            Segment::new([0.0, 0.0, 0.0], 0.15, [1.0, 0.3, 0.0], 0.15).unwrap(),
+            k,
+            1.0,
+        )
+        .unwrap();
+        let varying = ScalisSegment::new(
+            Segment::new([0.0, 0.0, 0.0], 0.1, [1.0, 0.3, 0.0], 0.2).unwrap(),
+            k,
+            1.0,
+        )
+        .unwrap();
+        assert!(is_log_concave(&constant) && !is_log_concave(&varying));
+        assert!(
+            log_concave_range(&varying, &Ray::new([0.0; 3], [1.0, 0.0, 0.0]), 0.0, 1.0).is_none()
+        );
+        // grazing rays, across the support's boundary, through the middle
+        let rays = [
+            Ray::new([-0.5, 0.25, 0.0], [1.0, 0.28, 0.0]),
+            Ray::new([0.4, -1.0, 0.05], [0.1, 1.0, 0.02]),
+            Ray::new([0.5, 0.15, -1.0], [0.0, 0.0, 1.0]),
+        ];
+        let mut tighter = 0;
+        for s in [&constant, &varying] {
+            for ray in &rays {
+                for (a, b) in [
+                    (0.0, 2.0),
+                    (0.6, 1.0),
+                    (0.9, 1.05),
+                    (1.0, 1.002),
+                    (0.5, 0.5),
+                ] {
+                    let lc = log_concave_range(s, ray, a, b);
+                    let tm = taylor_model(s, ray, a, b).map(|m| taylor_model_range(m, a, b));
+                    assert_eq!(lc.is_some(), is_log_concave(s));
+                    let tm = tm.expect("degree 6 has a second derivative");
+                    for i in 0..=200 {
+                        let t = a + (b - a) * f64::from(i) / 200.0;
+                        let f: f64 = s.density(ray.at::<f64>(t, t));
+                        if let Some(r) = lc {
+                            assert!(r.contains(f), "log-concave [{a}, {b}]: {r:?} misses {f}");
+                        }
+                        assert!(tm.contains(f), "Taylor [{a}, {b}]: {tm:?} misses {f}");
+                    }
+                    let cells = density_bounds(s, ray, a, b, 64);
+                    let best = lc.map_or(tm.width(), |r| r.width().min(tm.width()));
+                    if b - a < 0.01 && cells.width() > 0.0 {
+                        assert!(
+                            best < cells.width(),
+                            "[{a}, {b}]: {best} !< {}",
+                            cells.width()
+                        );
+                        tighter += 1;
+                    }
+                }
+            }
+        }
+        assert!(tighter > 0);
     }
 }

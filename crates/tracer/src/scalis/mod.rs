@@ -20,7 +20,10 @@
 //!   per-primitive sound ranges (ch. 2 §2.1, by skeleton cells:
 //!   [`bounds::density_bounds`], evaluated only for the primitives whose
 //!   support meets the interval) that excludes the iso-value proves the
-//!   interval root-free;
+//!   interval root-free (when the cell sums cannot decide: the closed
+//!   form's range on short intervals, then tight ranges for grazing
+//!   stretches — [`bounds::log_concave_range`] for constant radii,
+//!   [`bounds::taylor_model`] per primitive and summed);
 //!   otherwise the interval is split where the oracle of §1.4 predicts the
 //!   root: the first root of the smooth piecewise-quadratic Bézier
 //!   interpolant (eq. 1.10) of the Hermite data of the **normalized field**
@@ -297,8 +300,9 @@ impl<T: Real> Ctx<'_, T> {
     /// hit's `[entry, exit]`, joined with `0` when that is only a part;
     /// [`CELLS`] cells, then [`FINE_CELLS`] when the first sum cannot
     /// decide, then intersected with the closed form's range on short
-    /// intervals, [`CLOSED_FORM_WIDTH`]). `stats` counts one bound
-    /// evaluation per stage.
+    /// intervals, [`CLOSED_FORM_WIDTH`]; then intersected with
+    /// [`tight_density`](Self::tight_density)'s range). `stats` counts one
+    /// bound evaluation per stage.
     fn range(&self, hits: &[PrimitiveHit<T>], a: T, b: T, stats: &mut RayStats) -> Interval<T> {
         let zero = Interval::point(T::ZERO);
         let mut r = Interval::ENTIRE;
@@ -336,7 +340,73 @@ impl<T: Real> Ctx<'_, T> {
             }
             stage += 1;
         }
+        if r.contains(T::ZERO) {
+            stats.bound_evals += 1;
+            let tight = Interval::point(self.iso) - self.tight_density(hits, a, b);
+            let c = r.intersection(tight);
+            if !c.is_empty() {
+                r = c;
+            }
+        }
         r
+    }
+
+    /// The last stage of [`range`](Self::range), for the grazing stretches
+    /// where the field stays close to the iso-value (the cell sums and the
+    /// closed form's Lipschitz lines are much wider than its variation
+    /// there): a sound enclosure of the density on `[a, b]`, the
+    /// intersection of
+    ///
+    /// - the sum over the hits of per-primitive ranges: the log-concave
+    ///   bounds of constant-radius segments
+    ///   ([`bounds::log_concave_range`]) intersected with the range of the
+    ///   primitive's quadratic Taylor model ([`bounds::taylor_model`]), the
+    ///   cell sums ([`FINE_CELLS`]) when neither applies;
+    /// - the range of the **sum** of the quadratic Taylor models (a
+    ///   primitive without one enters as its constant range), which keeps
+    ///   the cancellations between primitives.
+    fn tight_density(&self, hits: &[PrimitiveHit<T>], a: T, b: T) -> Interval<T> {
+        let zero = Interval::point(T::ZERO);
+        let mut sum = zero;
+        let mut model = [zero; 3];
+        for h in hits {
+            if h.entry > b {
+                break;
+            }
+            if h.exit < a {
+                continue;
+            }
+            let s = self.seg(h);
+            // both bounds hold on the whole line (the closed form is exactly
+            // 0 outside the support), so [a, b] is used as is
+            let lc = bounds::log_concave_range(s, self.ray, a, b);
+            let tm = bounds::taylor_model(s, self.ray, a, b);
+            let tr = tm.map(|m| bounds::taylor_model_range(m, a, b));
+            let mut per = match (lc, tr) {
+                (Some(x), Some(y)) => {
+                    let c = x.intersection(y);
+                    if c.is_empty() { x } else { c }
+                }
+                (Some(x), None) | (None, Some(x)) => x,
+                (None, None) => {
+                    let (u, v) = (a.max(h.entry), b.min(h.exit));
+                    let d = bounds::density_bounds(s, self.ray, u, v, FINE_CELLS);
+                    if u > a || v < b { d.hull(zero) } else { d }
+                }
+            };
+            per = Interval::new(per.lo().max(T::ZERO), per.hi());
+            sum = sum + per;
+            match tm {
+                Some(m) => {
+                    model[0] = model[0] + m[0];
+                    model[1] = model[1] + m[1];
+                    model[2] = model[2] + m[2];
+                }
+                None => model[0] = model[0] + per,
+            }
+        }
+        let c = sum.intersection(bounds::taylor_model_range(model, a, b));
+        if c.is_empty() { sum } else { c }
     }
 }
 
