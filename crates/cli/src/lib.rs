@@ -16,4 +16,5 @@
 //! ```
 
 pub mod output;
+pub mod report;
 pub mod scene_format;
