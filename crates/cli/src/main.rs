@@ -66,9 +66,11 @@ struct RenderArgs {
     /// The PNG to write (written to a temporary file, then renamed).
     #[arg(short = 'o', long = "out")]
     output: PathBuf,
-    /// Tracing method (`boundtrace methods`).
-    #[arg(long, default_value = "quadratic-taylor", value_parser = parse_method)]
-    method: Method,
+    /// Tracing method (`boundtrace methods`); default: `quadratic-taylor`,
+    /// or `interval` on blobtrees and `affine` on HRBFs (which have no
+    /// Taylor bounds).
+    #[arg(long, value_parser = parse_method)]
+    method: Option<Method>,
     /// Image size.
     #[arg(long, default_value = "512x512", value_parser = parse_size)]
     size: (u32, u32),
@@ -303,6 +305,16 @@ fn make_camera(spec: &CameraSpec, bounds: [[f64; 3]; 2], w: u32, h: u32) -> Resu
     .map_err(|e| fail(format!("`camera`: {e}")))
 }
 
+/// The default method of a field: the fastest supported one in our
+/// measurements (README, "Methods").
+fn default_method<T>(field: &SceneField<T>) -> Method {
+    match field {
+        SceneField::Blobtree(_) => Method::Interval,
+        SceneField::Hrbf(_) => Method::Affine,
+        _ => Method::QuadraticTaylor,
+    }
+}
+
 fn mode(transparent: bool) -> Mode {
     if transparent {
         Mode::Transparent
@@ -318,11 +330,12 @@ fn render(a: &RenderArgs, quiet: bool) -> Result<(), Fail> {
     if a.backend == Backend::Gpu {
         return render_gpu(a, &file, &spec, quiet);
     }
+    let method = a.method.unwrap_or_else(|| default_method(scene.field()));
     let camera = make_camera(&spec, scene.bounds(), w, h)?;
-    let settings = RenderSettings::new(w, h, a.method)
+    let settings = RenderSettings::new(w, h, method)
         .map_err(|e| fail(e.to_string()))?
         .with_mode(mode(a.transparent));
-    let pb = spinner(quiet, &format!("rendering {} ({w}x{h}, {})", scene.name(), a.method));
+    let pb = spinner(quiet, &format!("rendering {} ({w}x{h}, {method})", scene.name()));
     let clock = Instant::now();
     let frame = render_scene(&scene, &camera, &settings).map_err(|e| fail(e.to_string()));
     pb.finish_and_clear();
@@ -333,7 +346,7 @@ fn render(a: &RenderArgs, quiet: bool) -> Result<(), Fail> {
             "method `{}` is not supported on this field ({} of {} rays unsupported: it needs \
              bounds this field does not provide); nothing written. Try `interval` or `affine`, \
              or see `boundtrace methods`",
-            a.method, totals.unsupported, totals.rays
+            method, totals.unsupported, totals.rays
         )));
     }
     let image = match a.kind {
@@ -356,7 +369,7 @@ fn render(a: &RenderArgs, quiet: bool) -> Result<(), Fail> {
         println!(
             "wrote {} ({w}x{h}, {}, {}, {:.3} s)",
             a.output.display(),
-            a.method,
+            method,
             if a.transparent { "transparent" } else { "opaque" },
             clock.elapsed().as_secs_f64()
         );
@@ -393,7 +406,8 @@ fn render_gpu(a: &RenderArgs, file: &SceneFile, spec: &CameraSpec, quiet: bool) 
     };
     let gpu_scene = GpuScene::from_scene(&scene).map_err(gpu_err)?;
     let tracer = GpuTracer::new().map_err(gpu_err)?;
-    let settings = RenderSettings::<f32>::new(w, h, a.method)
+    let method = a.method.unwrap_or_else(|| default_method(scene.field()));
+    let settings = RenderSettings::<f32>::new(w, h, method)
         .map_err(|e| fail(e.to_string()))?
         .with_mode(mode(a.transparent));
     let pb = spinner(quiet, &format!("rendering on {}", tracer.adapter_info().name));
