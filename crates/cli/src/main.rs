@@ -358,6 +358,7 @@ fn render(a: &RenderArgs, quiet: bool) -> Result<(), Fail> {
         OutputKind::Steps => heat_legend(&frame.heatmap_image(a.heat_max), a.heat_max)
             .map_err(|e| fail(e.to_string()))?,
     };
+    ensure_parent(&a.output)?;
     write_atomic(&a.output, &image.to_png()).map_err(|e| fail(e.to_string()))?;
     if totals.max_steps > 0 || totals.buffer_full > 0 {
         eprintln!(
@@ -421,6 +422,7 @@ fn render_gpu(a: &RenderArgs, file: &SceneFile, spec: &CameraSpec, quiet: bool) 
         OutputKind::Steps => heat_legend(&frame.heatmap_image(a.heat_max), a.heat_max)
             .map_err(|e| fail(e.to_string()))?,
     };
+    ensure_parent(&a.output)?;
     write_atomic(&a.output, &image.to_png()).map_err(|e| fail(e.to_string()))?;
     if !quiet {
         println!("wrote {} (GPU: {})", a.output.display(), tracer.adapter_info().name);
@@ -518,6 +520,7 @@ fn slice(a: &SliceArgs, quiet: bool) -> Result<(), Fail> {
     pb.finish_and_clear();
     let stack = stack?;
     let stem = sanitize(scene.name());
+    ensure_parent(&a.output)?;
     let files = write_dir_atomic(&a.output, |tmp| {
         stack
             .write_png_stack(tmp, &stem)
@@ -536,6 +539,15 @@ fn slice(a: &SliceArgs, quiet: bool) -> Result<(), Fail> {
     Ok(())
 }
 
+/// Creates the parent directory of an output file if missing.
+fn ensure_parent(path: &Path) -> Result<(), Fail> {
+    match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() && !d.is_dir() => std::fs::create_dir_all(d)
+            .map_err(|e| fail(format!("creating {}: {e}", d.display()))),
+        _ => Ok(()),
+    }
+}
+
 /// A file-name-safe stem.
 fn sanitize(name: &str) -> String {
     let s: String = name
@@ -550,6 +562,7 @@ fn scene_cmd(c: &SceneCommand, quiet: bool) -> Result<(), Fail> {
         SceneCommand::Gen { name, seed, output } => {
             let scene = Scene::<f64>::build(name, *seed).map_err(|e| fail(e.to_string()))?;
             let json = SceneFile::from_scene(&scene)?.to_json();
+            ensure_parent(output)?;
             write_atomic(output, json.as_bytes()).map_err(|e| fail(e.to_string()))?;
             if !quiet {
                 println!("wrote {} ({})", output.display(), scene.description());
