@@ -15,6 +15,10 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+// `!(a < b)` is deliberate: it is also true when a value is NaN, which
+// must take the rejecting branch.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 pub mod output;
 pub mod report;
 pub mod scene_format;

@@ -209,16 +209,26 @@ fn parse_method(s: &str) -> Result<Method, String> {
 fn method_help(m: Method) -> &'static str {
     match m {
         Method::Sphere => "sphere tracing with the field's global Lipschitz bound (Hart 1996)",
-        Method::Segment => "segment tracing with local directional Lipschitz bounds (Galin et al. 2020)",
-        Method::LinearTaylor => "forward linear marching with Taylor bounds (forward-inclusion paper §4)",
+        Method::Segment => {
+            "segment tracing with local directional Lipschitz bounds (Galin et al. 2020)"
+        }
+        Method::LinearTaylor => {
+            "forward linear marching with Taylor bounds (forward-inclusion paper §4)"
+        }
         Method::LinearBottomUp => "forward linear marching with bottom-up (affine) bounds",
-        Method::LinearMixed => "forward linear marching, the tighter of Taylor and bottom-up per side",
-        Method::QuadraticTaylor => "forward quadratic marching with Taylor bounds (default; paper §5–6)",
+        Method::LinearMixed => {
+            "forward linear marching, the tighter of Taylor and bottom-up per side"
+        }
+        Method::QuadraticTaylor => {
+            "forward quadratic marching with Taylor bounds (default; paper §5–6)"
+        }
         Method::QuadraticBottomUp => "forward quadratic marching with bottom-up bounds",
         Method::QuadraticMixed => "forward quadratic marching, the tighter bound per side",
         Method::Interval => "interval-arithmetic bisection (Mitchell 1990)",
         Method::Affine => "revised-affine-arithmetic bisection (Fryazinov et al. 2010)",
-        Method::ScalisQuadratic => "SCALIS fast tracing with per-ray primitive lists (SCALIS scenes only; thesis Part III)",
+        Method::ScalisQuadratic => {
+            "SCALIS fast tracing with per-ray primitive lists (SCALIS scenes only; thesis Part III)"
+        }
     }
 }
 
@@ -277,13 +287,18 @@ fn camera_spec(file: &SceneFile, arg: Option<&str>) -> Result<CameraSpec, Fail> 
     let text = if arg.trim_start().starts_with('{') {
         arg.to_string()
     } else {
-        std::fs::read_to_string(arg).map_err(|e| Fail(format!("--camera: reading {arg}: {e}"), 2))?
+        std::fs::read_to_string(arg)
+            .map_err(|e| Fail(format!("--camera: reading {arg}: {e}"), 2))?
     };
-    serde_json::from_str::<CameraSpec>(&text)
-        .map_err(|e| Fail(format!("--camera: {e}"), 2))
+    serde_json::from_str::<CameraSpec>(&text).map_err(|e| Fail(format!("--camera: {e}"), 2))
 }
 
-fn make_camera(spec: &CameraSpec, bounds: [[f64; 3]; 2], w: u32, h: u32) -> Result<Camera<f64>, Fail> {
+fn make_camera(
+    spec: &CameraSpec,
+    bounds: [[f64; 3]; 2],
+    w: u32,
+    h: u32,
+) -> Result<Camera<f64>, Fail> {
     let aspect = f64::from(w) / f64::from(h);
     match *spec {
         CameraSpec::Framing { direction, fov_deg } => {
@@ -335,7 +350,10 @@ fn render(a: &RenderArgs, quiet: bool) -> Result<(), Fail> {
     let settings = RenderSettings::new(w, h, method)
         .map_err(|e| fail(e.to_string()))?
         .with_mode(mode(a.transparent));
-    let pb = spinner(quiet, &format!("rendering {} ({w}x{h}, {method})", scene.name()));
+    let pb = spinner(
+        quiet,
+        &format!("rendering {} ({w}x{h}, {method})", scene.name()),
+    );
     let clock = Instant::now();
     let frame = render_scene(&scene, &camera, &settings).map_err(|e| fail(e.to_string()));
     pb.finish_and_clear();
@@ -371,7 +389,11 @@ fn render(a: &RenderArgs, quiet: bool) -> Result<(), Fail> {
             "wrote {} ({w}x{h}, {}, {}, {:.3} s)",
             a.output.display(),
             method,
-            if a.transparent { "transparent" } else { "opaque" },
+            if a.transparent {
+                "transparent"
+            } else {
+                "opaque"
+            },
             clock.elapsed().as_secs_f64()
         );
         println!("{totals}");
@@ -389,7 +411,12 @@ fn render_gpu(_: &RenderArgs, _: &SceneFile, _: &CameraSpec, _: bool) -> Result<
 }
 
 #[cfg(feature = "gpu")]
-fn render_gpu(a: &RenderArgs, file: &SceneFile, spec: &CameraSpec, quiet: bool) -> Result<(), Fail> {
+fn render_gpu(
+    a: &RenderArgs,
+    file: &SceneFile,
+    spec: &CameraSpec,
+    quiet: bool,
+) -> Result<(), Fail> {
     use boundtrace_gpu::{GpuScene, GpuTracer};
     let gpu_err = |e: boundtrace_gpu::GpuError| fail(format!("GPU backend: {e}"));
     let scene = file.build::<f32>()?;
@@ -411,8 +438,13 @@ fn render_gpu(a: &RenderArgs, file: &SceneFile, spec: &CameraSpec, quiet: bool) 
     let settings = RenderSettings::<f32>::new(w, h, method)
         .map_err(|e| fail(e.to_string()))?
         .with_mode(mode(a.transparent));
-    let pb = spinner(quiet, &format!("rendering on {}", tracer.adapter_info().name));
-    let frame = tracer.render(&gpu_scene, &camera, &settings).map_err(gpu_err);
+    let pb = spinner(
+        quiet,
+        &format!("rendering on {}", tracer.adapter_info().name),
+    );
+    let frame = tracer
+        .render(&gpu_scene, &camera, &settings)
+        .map_err(gpu_err);
     pb.finish_and_clear();
     let frame = frame?;
     let image = match a.kind {
@@ -425,7 +457,11 @@ fn render_gpu(a: &RenderArgs, file: &SceneFile, spec: &CameraSpec, quiet: bool) 
     ensure_parent(&a.output)?;
     write_atomic(&a.output, &image.to_png()).map_err(|e| fail(e.to_string()))?;
     if !quiet {
-        println!("wrote {} (GPU: {})", a.output.display(), tracer.adapter_info().name);
+        println!(
+            "wrote {} (GPU: {})",
+            a.output.display(),
+            tracer.adapter_info().name
+        );
     }
     Ok(())
 }
@@ -494,7 +530,13 @@ fn stats(a: &StatsArgs, quiet: bool) -> Result<(), Fail> {
     } else {
         println!(
             "## {} ({} primitives), {m:?}\n\n{} rays (seed {}), {} hit the surface; eps {:e}, max_steps {}\n",
-            rep.scene, rep.primitives, rep.rays, rep.ray_seed, rep.reference_hits, rep.eps, rep.max_steps
+            rep.scene,
+            rep.primitives,
+            rep.rays,
+            rep.ray_seed,
+            rep.reference_hits,
+            rep.eps,
+            rep.max_steps
         );
         println!("{}", markdown_table(&rows, baseline));
     }
@@ -514,7 +556,10 @@ fn slice(a: &SliceArgs, quiet: bool) -> Result<(), Fail> {
         height: a.size.1,
         slices: a.layers,
     };
-    let pb = spinner(quiet, &format!("slicing {} into {} layers", scene.name(), a.layers));
+    let pb = spinner(
+        quiet,
+        &format!("slicing {} into {} layers", scene.name(), a.layers),
+    );
     let stack = slice_scalis(w.field(), scene.bounds(), settings, &Params::new())
         .map_err(|e| fail(e.to_string()));
     pb.finish_and_clear();
@@ -542,8 +587,9 @@ fn slice(a: &SliceArgs, quiet: bool) -> Result<(), Fail> {
 /// Creates the parent directory of an output file if missing.
 fn ensure_parent(path: &Path) -> Result<(), Fail> {
     match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() && !d.is_dir() => std::fs::create_dir_all(d)
-            .map_err(|e| fail(format!("creating {}: {e}", d.display()))),
+        Some(d) if !d.as_os_str().is_empty() && !d.is_dir() => {
+            std::fs::create_dir_all(d).map_err(|e| fail(format!("creating {}: {e}", d.display())))
+        }
         _ => Ok(()),
     }
 }
@@ -552,7 +598,13 @@ fn ensure_parent(path: &Path) -> Result<(), Fail> {
 fn sanitize(name: &str) -> String {
     let s: String = name
         .chars()
-        .map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '_' })
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
         .collect();
     if s.is_empty() { "scene".into() } else { s }
 }

@@ -35,10 +35,7 @@ fn temp_sibling(path: &Path, tag: &str) -> PathBuf {
         .duration_since(std::time::UNIX_EPOCH)
         .map(|d| d.subsec_nanos())
         .unwrap_or(0);
-    path.with_file_name(format!(
-        ".{name}.{tag}-{}-{nanos}.tmp",
-        std::process::id()
-    ))
+    path.with_file_name(format!(".{name}.{tag}-{}-{nanos}.tmp", std::process::id()))
 }
 
 /// Writes `bytes` to `path` atomically: to a temporary file in the same
@@ -249,10 +246,7 @@ pub fn shade(
         .iter()
         .map(|l| {
             let n = l.direction.iter().map(|x| x * x).sum::<f64>().sqrt();
-            (
-                l.direction.map(|x| x / n),
-                l.color.map(|c| c * l.intensity),
-            )
+            (l.direction.map(|x| x / n), l.color.map(|c| c * l.intensity))
         })
         .collect();
     let pixels = (0..h)

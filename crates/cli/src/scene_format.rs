@@ -654,7 +654,10 @@ impl SceneFile {
         if text.len() > MAX_FILE_BYTES {
             return Err(FormatError::at(
                 "",
-                format!("file too large ({} bytes, at most {MAX_FILE_BYTES})", text.len()),
+                format!(
+                    "file too large ({} bytes, at most {MAX_FILE_BYTES})",
+                    text.len()
+                ),
             ));
         }
         let mut de = serde_json::Deserializer::from_str(text);
@@ -748,7 +751,10 @@ fn positive(path: &str, x: f64) -> Result<f64, FormatError> {
     if x.is_finite() && x > 0.0 {
         Ok(x)
     } else {
-        Err(FormatError::at(path, format!("must be finite and > 0, got {x}")))
+        Err(FormatError::at(
+            path,
+            format!("must be finite and > 0, got {x}"),
+        ))
     }
 }
 
@@ -756,7 +762,10 @@ fn nonneg(path: &str, x: f64) -> Result<f64, FormatError> {
     if x.is_finite() && x >= 0.0 {
         Ok(x)
     } else {
-        Err(FormatError::at(path, format!("must be finite and ≥ 0, got {x}")))
+        Err(FormatError::at(
+            path,
+            format!("must be finite and ≥ 0, got {x}"),
+        ))
     }
 }
 
@@ -1115,8 +1124,12 @@ impl NodeSpec {
             NodeSpec::Intersection(o) => {
                 return o.build(OpName::Intersection, path_outer, outer, depth);
             }
-            NodeSpec::Difference(o) => return o.build(OpName::Difference, path_outer, outer, depth),
-            NodeSpec::SmoothUnion(o) => return o.build(OpName::SmoothUnion, path_outer, outer, depth),
+            NodeSpec::Difference(o) => {
+                return o.build(OpName::Difference, path_outer, outer, depth);
+            }
+            NodeSpec::SmoothUnion(o) => {
+                return o.build(OpName::SmoothUnion, path_outer, outer, depth);
+            }
             NodeSpec::SmoothIntersection(o) => {
                 return o.build(OpName::SmoothIntersection, path_outer, outer, depth);
             }
@@ -1279,9 +1292,8 @@ impl NodeSpec {
             }
             params[k] = f;
         }
-        let prim = Primitive::<T>::read_params(kind, &params).ok_or_else(|| {
-            FormatError::at(path, "invalid primitive parameters for this type")
-        })?;
+        let prim = Primitive::<T>::read_params(kind, &params)
+            .ok_or_else(|| FormatError::at(path, "invalid primitive parameters for this type"))?;
         Ok(Node::primitive(prim))
     }
 }
@@ -1846,7 +1858,10 @@ mod tests {
             {"center": [0,0,0], "kernel": {"wendland": {"sigma": 1}}}]}}}"#,
         );
         let s = e.to_string();
-        assert!(s.contains("field.blobs.blobs[0].kernel") && s.contains("wendland"), "{s}");
+        assert!(
+            s.contains("field.blobs.blobs[0].kernel") && s.contains("wendland"),
+            "{s}"
+        );
     }
 
     #[test]
@@ -1862,10 +1877,17 @@ mod tests {
             )
         };
         let e = parse_err(&base("[[0, 1]]"));
-        assert!(e.to_string().contains("field.skeleton.edges[0]") && e.message.contains("zero-length"));
+        assert!(
+            e.to_string().contains("field.skeleton.edges[0]") && e.message.contains("zero-length")
+        );
         let e = parse_err(&base("[[0, 7]]"));
         assert!(e.to_string().contains("field.skeleton.edges[0][1]"), "{e}");
-        assert!(SceneFile::parse(&base("[[0, 2]]")).unwrap().build::<f64>().is_ok());
+        assert!(
+            SceneFile::parse(&base("[[0, 2]]"))
+                .unwrap()
+                .build::<f64>()
+                .is_ok()
+        );
     }
 
     #[test]
@@ -1882,7 +1904,10 @@ mod tests {
         let want = r.to_world_point(p);
         let got = rotate(q, p);
         for k in 0..3 {
-            assert!((got[k] + t[k] - want[k]).abs() < 1e-12, "{got:?} {t:?} {want:?}");
+            assert!(
+                (got[k] + t[k] - want[k]).abs() < 1e-12,
+                "{got:?} {t:?} {want:?}"
+            );
         }
     }
 
@@ -1892,7 +1917,10 @@ mod tests {
             r#"{"version": 1, "bounds": [[-1,-1,-1],[1,1,1]], "field": {"blobtree":
             {"root": {"union": {"children": []}}}}}"#,
         );
-        assert!(e.to_string().contains("field.blobtree.root.union.children") && e.message.contains("empty"));
+        assert!(
+            e.to_string().contains("field.blobtree.root.union.children")
+                && e.message.contains("empty")
+        );
         let e = parse_err(r#"{"version": 2, "field": {"blobs": {"iso": 1, "blobs": []}}}"#);
         assert!(e.to_string().contains("version 2"), "{e}");
     }

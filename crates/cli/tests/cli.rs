@@ -121,7 +121,13 @@ fn scene_gen_check_and_render_like_the_generator() {
 /// pixel's trace and hits), for one scene of each field kind.
 #[test]
 fn scene_files_render_identically_to_the_generators() {
-    for name in ["blobs", "molecule", "hrbf-8", "scalis-random", "aggregate-1-smooth"] {
+    for name in [
+        "blobs",
+        "molecule",
+        "hrbf-8",
+        "scalis-random",
+        "aggregate-1-smooth",
+    ] {
         let scene = Scene::<f64>::build(name, DEFAULT_SEED).unwrap();
         let back = SceneFile::parse(&SceneFile::from_scene(&scene).unwrap().to_json())
             .unwrap()
@@ -199,7 +205,11 @@ fn render_bad(text: &str, extra: &[&str]) -> Output {
     let o = run(&args);
     assert!(!o.status.success());
     assert_eq!(std::fs::read(&out).unwrap(), b"keep me", "output clobbered");
-    assert_eq!(d.entries(), vec!["out.png", "s.json"], "temporary files left");
+    assert_eq!(
+        d.entries(),
+        vec!["out.png", "s.json"],
+        "temporary files left"
+    );
     o
 }
 
@@ -219,7 +229,13 @@ fn malformed_json_reports_line_and_column() {
     assert_fails(&o, 1, &["line 1, column"]);
     let o = render_bad(&GOOD.replace("0.5", "1e999"), &[]);
     assert_fails(&o, 1, &["line 4", "field.blobs.iso"]);
-    let o = render_bad(&[0xff_u8, 0xfe].iter().map(|&b| b as char).collect::<String>(), &[]);
+    let o = render_bad(
+        &[0xff_u8, 0xfe]
+            .iter()
+            .map(|&b| b as char)
+            .collect::<String>(),
+        &[],
+    );
     assert_fails(&o, 1, &["line 1"]);
 }
 
@@ -228,7 +244,11 @@ fn invalid_values_name_the_field() {
     let o = render_bad(&GOOD.replace("\"sigma\": 0.8", "\"sigma\": -0.8"), &[]);
     assert_fails(&o, 1, &["field.blobs.blobs[0].kernel.compact.sigma", "> 0"]);
     let o = render_bad(&GOOD.replace("\"compact\"", "\"wendland\""), &[]);
-    assert_fails(&o, 1, &["field.blobs.blobs[0].kernel", "unknown variant `wendland`"]);
+    assert_fails(
+        &o,
+        1,
+        &["field.blobs.blobs[0].kernel", "unknown variant `wendland`"],
+    );
     let o = render_bad(&GOOD.replace("\"center\"", "\"centre\""), &[]);
     assert_fails(&o, 1, &["field.blobs.blobs[0]", "centre"]);
     let skeleton = |edges: &str, radius: &str| {
@@ -254,10 +274,16 @@ fn invalid_values_name_the_field() {
     let o = render_bad(&tree(r#"{"union": {"children": []}}"#), &[]);
     assert_fails(&o, 1, &["field.blobtree.root.union.children", "empty tree"]);
     let o = render_bad(
-        &tree(r#"{"smooth-union": {"children": [{"sphere": {"radius": 1}}, {"sphere": {"radius": 0.5}}]}}"#),
+        &tree(
+            r#"{"smooth-union": {"children": [{"sphere": {"radius": 1}}, {"sphere": {"radius": 0.5}}]}}"#,
+        ),
         &[],
     );
-    assert_fails(&o, 1, &["field.blobtree.root.smooth-union.beta", "required"]);
+    assert_fails(
+        &o,
+        1,
+        &["field.blobtree.root.smooth-union.beta", "required"],
+    );
     // too deep for the format (and the encoding's stack): 70 nested unions
     let mut root = r#"{"sphere": {"radius": 0.5}}"#.to_string();
     for _ in 0..70 {
@@ -267,7 +293,10 @@ fn invalid_values_name_the_field() {
     assert_fails(&o, 1, &["field"]);
     // a missing bounds for a field without computed bounds
     let o = render_bad(
-        &GOOD.replace("\"compact\": { \"degree\": 6, \"sigma\": 0.8 }", "\"gaussian\": { \"sigma\": 0.3 }"),
+        &GOOD.replace(
+            "\"compact\": { \"degree\": 6, \"sigma\": 0.8 }",
+            "\"gaussian\": { \"sigma\": 0.3 }",
+        ),
         &[],
     );
     assert_fails(&o, 1, &["`bounds`", "required"]);
@@ -277,8 +306,10 @@ fn invalid_values_name_the_field() {
 fn unknown_method_and_bad_sizes_are_usage_errors() {
     let o = render_bad(GOOD, &["--method", "warp-drive"]);
     assert_fails(&o, 2, &["unknown method `warp-drive`", "quadratic-taylor"]);
-    let o = render_bad(GOOD, &["--size", "0x10"]);
+    let d = TempDir::new("size");
+    let o = run(&["render", "blobs", "-o", &d.path("x.png"), "--size", "0x10"]);
     assert_fails(&o, 2, &["WxH"]);
+    assert!(d.entries().is_empty());
     let o = run(&["stats", "blobs", "--methods", "sphere,nope"]);
     assert_fails(&o, 2, &["unknown method `nope`"]);
     let o = run(&["render", "no/such/scene.json", "-o", "x.png"]);
@@ -441,6 +472,9 @@ fn golden_masks_of_two_shipped_scenes() {
             got.len() == want.len() && differ == 0,
             "{scene}: {differ} pixels differ from {golden}\n{got}"
         );
-        assert!(got.contains('#') && got.contains('.'), "{scene}: degenerate mask");
+        assert!(
+            got.contains('#') && got.contains('.'),
+            "{scene}: degenerate mask"
+        );
     }
 }
