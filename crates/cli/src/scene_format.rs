@@ -866,9 +866,9 @@ fn blob_box(iso: f64, blobs: &[BlobSpec]) -> Option<[[f64; 3]; 2]> {
         let KernelSpec::Compact { sigma, .. } = blob.kernel else {
             return None;
         };
-        for k in 0..3 {
-            b[0][k] = b[0][k].min(blob.center[k] - sigma);
-            b[1][k] = b[1][k].max(blob.center[k] + sigma);
+        for (k, c) in blob.center.iter().enumerate() {
+            b[0][k] = b[0][k].min(c - sigma);
+            b[1][k] = b[1][k].max(c + sigma);
         }
     }
     Some(b)
@@ -1154,8 +1154,8 @@ impl NodeSpec {
                 half_extents: h,
                 transform,
             } => {
-                for k in 0..3 {
-                    positive(&format!("{path}.half_extents[{k}]"), h[k])?;
+                for (k, x) in h.iter().enumerate() {
+                    positive(&format!("{path}.half_extents[{k}]"), *x)?;
                 }
                 (PrimitiveKind::Box, [h[0], h[1], h[2], 0.0], transform)
             }
@@ -1164,8 +1164,8 @@ impl NodeSpec {
                 rounding,
                 transform,
             } => {
-                for k in 0..3 {
-                    positive(&format!("{path}.half_extents[{k}]"), h[k])?;
+                for (k, x) in h.iter().enumerate() {
+                    positive(&format!("{path}.half_extents[{k}]"), *x)?;
                 }
                 let r = nonneg(&pp("rounding"), *rounding)?;
                 if r > h[0].min(h[1]).min(h[2]) {
@@ -1235,8 +1235,8 @@ impl NodeSpec {
                 transform,
             ),
             NodeSpec::Ellipsoid { radii, transform } => {
-                for k in 0..3 {
-                    positive(&format!("{path}.radii[{k}]"), radii[k])?;
+                for (k, x) in radii.iter().enumerate() {
+                    positive(&format!("{path}.radii[{k}]"), *x)?;
                 }
                 (
                     PrimitiveKind::Ellipsoid,
