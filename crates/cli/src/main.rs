@@ -184,6 +184,10 @@ enum SceneCommand {
 /// The largest width or height.
 const MAX_SIDE: u32 = 16384;
 
+/// The most pixels of one rendered image (a frame keeps every pixel's
+/// trace: about 100 bytes each).
+const MAX_PIXELS: u64 = 40_000_000;
+
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
     let bad = || format!("expected WxH with 1 ≤ W, H ≤ {MAX_SIDE} (e.g. 512x384), got `{s}`");
     let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
@@ -342,6 +346,12 @@ fn render(a: &RenderArgs, quiet: bool) -> Result<(), Fail> {
     let (file, scene) = load(&a.scene, a.seed)?;
     let spec = camera_spec(&file, a.camera.as_deref())?;
     let (w, h) = a.size;
+    if u64::from(w) * u64::from(h) > MAX_PIXELS {
+        return Err(Fail(
+            format!("--size {w}x{h}: at most {MAX_PIXELS} pixels per image"),
+            2,
+        ));
+    }
     if a.backend == Backend::Gpu {
         return render_gpu(a, &file, &spec, quiet);
     }

@@ -309,6 +309,15 @@ fn unknown_method_and_bad_sizes_are_usage_errors() {
     let d = TempDir::new("size");
     let o = run(&["render", "blobs", "-o", &d.path("x.png"), "--size", "0x10"]);
     assert_fails(&o, 2, &["WxH"]);
+    let o = run(&[
+        "render",
+        "blobs",
+        "-o",
+        &d.path("x.png"),
+        "--size",
+        "16000x16000",
+    ]);
+    assert_fails(&o, 2, &["at most 40000000 pixels"]);
     assert!(d.entries().is_empty());
     let o = run(&["stats", "blobs", "--methods", "sphere,nope"]);
     assert_fails(&o, 2, &["unknown method `nope`"]);
