@@ -533,6 +533,20 @@ mod tests {
     }
 
     #[test]
+    fn from_parts_checks_the_box() {
+        let s = Scene::<f64>::build("hrbf-8", DEFAULT_SEED).unwrap();
+        let parts = |b: [[f64; 3]; 2], inside: [f64; 3]| {
+            Scene::from_parts("x", "d".into(), b, inside, s.field().clone(), 8)
+        };
+        let ok = parts(s.bounds(), s.inside_point()).unwrap();
+        assert_eq!((ok.name(), ok.bounds()), ("x", s.bounds()));
+        let [lo, hi] = s.bounds();
+        assert!(parts([hi, lo], s.inside_point()).is_err());
+        assert!(parts([lo, [hi[0], f64::NAN, hi[2]]], s.inside_point()).is_err());
+        assert!(parts(s.bounds(), [0.0, f64::INFINITY, 0.0]).is_err());
+    }
+
+    #[test]
     fn frame_maps_into_the_unit_box() {
         let f = Frame::fit([1.0, 2.0, 3.0], [5.0, 4.0, 3.5]);
         let b = f.bounds([1.0, 2.0, 3.0], [5.0, 4.0, 3.5], 0.0);
