@@ -17,7 +17,7 @@ secs=${1:-30}
 shift || true
 targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then
-    targets=(interval_ops affine_ops forward_bounds field_bounds sparse_equivalence tracer_first_hit)
+    targets=(interval_ops affine_ops forward_bounds field_bounds sparse_equivalence tracer_first_hit scene_parse)
 fi
 
 if ! rustup run "$NIGHTLY" rustc --version >/dev/null 2>&1; then

@@ -206,6 +206,12 @@ pub struct WithLipschitz<F, T> {
 }
 
 impl<F, T: Copy> WithLipschitz<F, T> {
+    /// `field` with the global Lipschitz bound `lipschitz`, which the caller
+    /// vouches for (a bound that is too small makes sphere tracing miss
+    /// roots); it is not checked here.
+    pub fn new(field: F, lipschitz: T) -> Self {
+        Self { field, lipschitz }
+    }
     /// The wrapped field.
     pub fn field(&self) -> &F {
         &self.field
@@ -290,7 +296,7 @@ impl<T: Real> Field<T> for SceneField<T> {
 /// description. Build with [`Scene::build`].
 #[derive(Clone, Debug)]
 pub struct Scene<T> {
-    name: &'static str,
+    name: String,
     description: String,
     bounds: [[T; 3]; 2],
     inside: [T; 3],
@@ -339,7 +345,7 @@ impl<T: Real> Scene<T> {
         .map_err(|e| e.named(name))?;
         let [lo, hi] = built.bounds;
         Ok(Self {
-            name,
+            name: name.to_string(),
             description: built.description,
             bounds: [lo.map(T::from_f64), hi.map(T::from_f64)],
             inside: built.inside.map(T::from_f64),
@@ -348,9 +354,49 @@ impl<T: Real> Scene<T> {
         })
     }
 
+    /// A scene from given parts (used by scene files, see the
+    /// `boundtrace-cli` crate's `scene_format`): `bounds` must contain the
+    /// whole surface (`f > 0` on and outside its faces) — the renderers and
+    /// the statistics clip every ray to it; `inside` is a point where the
+    /// field is negative, if known.
+    ///
+    /// # Errors
+    /// [`SceneError::Check`] when `bounds` is not a finite box with
+    /// `min < max` on every axis or `inside` is not finite.
+    pub fn from_parts(
+        name: &str,
+        description: String,
+        bounds: [[T; 3]; 2],
+        inside: [T; 3],
+        field: SceneField<T>,
+        primitives: usize,
+    ) -> Result<Self, SceneError> {
+        let [lo, hi] = bounds;
+        if !(0..3).all(|k| lo[k].is_finite() && hi[k].is_finite() && lo[k] < hi[k]) {
+            return Err(SceneError::Check {
+                scene: "from_parts",
+                reason: "bounds must be finite with min < max on every axis",
+            });
+        }
+        if !inside.iter().all(|x| x.is_finite()) {
+            return Err(SceneError::Check {
+                scene: "from_parts",
+                reason: "the inside point must be finite",
+            });
+        }
+        Ok(Self {
+            name: name.to_string(),
+            description,
+            bounds,
+            inside,
+            field,
+            primitives,
+        })
+    }
+
     /// The scene's name.
     pub fn name(&self) -> &str {
-        self.name
+        &self.name
     }
 
     /// One line: what it is, primitive count, source.
@@ -484,6 +530,20 @@ mod tests {
         assert!(msg.contains("nope") && msg.contains("scalis-foam") && msg.contains("aggregate-4"));
         assert!(Scene::<f64>::build("aggregate-9", 1).is_err());
         assert_eq!(NAMES.len(), 16);
+    }
+
+    #[test]
+    fn from_parts_checks_the_box() {
+        let s = Scene::<f64>::build("hrbf-8", DEFAULT_SEED).unwrap();
+        let parts = |b: [[f64; 3]; 2], inside: [f64; 3]| {
+            Scene::from_parts("x", "d".into(), b, inside, s.field().clone(), 8)
+        };
+        let ok = parts(s.bounds(), s.inside_point()).unwrap();
+        assert_eq!((ok.name(), ok.bounds()), ("x", s.bounds()));
+        let [lo, hi] = s.bounds();
+        assert!(parts([hi, lo], s.inside_point()).is_err());
+        assert!(parts([lo, [hi[0], f64::NAN, hi[2]]], s.inside_point()).is_err());
+        assert!(parts(s.bounds(), [0.0, f64::INFINITY, 0.0]).is_err());
     }
 
     #[test]
