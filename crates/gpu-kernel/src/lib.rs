@@ -383,7 +383,10 @@ pub fn render_pixel(
             }
         }
         #[cfg(target_arch = "spirv")]
-        Some(SceneKind::Blobtree) => unsupported(),
+        Some(SceneKind::Blobtree) => {
+            let _ = floats;
+            unsupported()
+        }
         None => unsupported(),
     }
 }

@@ -267,13 +267,17 @@ impl fmt::Debug for GpuTracer {
     }
 }
 
-const STORAGE_ENTRIES: [(u32, bool); 6] = [
+/// The shader's storage bindings (binding, read-only): constants, words,
+/// floats, blobs; pixels, hits, and the per-pixel root buffer (scratch,
+/// `max_roots` [`Root`](boundtrace_tracer::Root)s of 2 words per pixel).
+const STORAGE_ENTRIES: [(u32, bool); 7] = [
     (0, true),
     (1, true),
     (2, true),
     (3, true),
     (4, false),
     (5, false),
+    (6, false),
 ];
 
 impl GpuTracer {
@@ -473,11 +477,13 @@ impl GpuTracer {
             })
         };
         let outs = [output("pixels", pix_bytes), output("hits", hit_bytes)];
+        // The tracer's root buffer: a window of `max_roots` slots per pixel.
+        let roots = output("roots", (hits.max(1) * 2 * 4) as u64);
         let backs = [
             readback("pixels-read", pix_bytes),
             readback("hits-read", hit_bytes),
         ];
-        let all: Vec<&wgpu::Buffer> = inputs.iter().chain(outs.iter()).collect();
+        let all: Vec<&wgpu::Buffer> = inputs.iter().chain(outs.iter()).chain([&roots]).collect();
         let entries: Vec<wgpu::BindGroupEntry> = all
             .iter()
             .enumerate()

@@ -6,11 +6,10 @@
 //! counts identical on ≥ 99 % of pixels, and the trace status identical on
 //! ≥ 99.9 %.
 //!
-//! Ignored for now: the `trace_pixels` entry point does not compile with
-//! rust-gpu 0.11 yet (see `crates/gpu-shader`). Needs the module (`scripts/build-spirv.sh`) and a Vulkan adapter
-//! (lavapipe: `apt-get install mesa-vulkan-drivers libvulkan1`). Without
-//! either the tests FAIL when `CI` is set (`true`/`1`) and are skipped
-//! loudly otherwise.
+//! Needs the module (`scripts/build-spirv.sh`) and a Vulkan adapter
+//! (lavapipe: `apt-get install mesa-vulkan-drivers libvulkan1`; both done
+//! by `scripts/gpu-test.sh`). Without either the tests FAIL when `CI` is
+//! set (`true`/`1`) and are skipped loudly otherwise.
 
 use boundtrace_gpu::{GpuError, GpuScene, GpuTracer, MAX_GPU_ROOTS};
 use boundtrace_tracer::camera::Camera;
@@ -132,13 +131,11 @@ fn run(mode: Mode, methods: &[Method], scenes: &[&str]) {
 }
 
 #[test]
-#[ignore = "the tracer does not compile to SPIR-V with rust-gpu 0.11 yet (Option/Result moves in tracer::march); build with BOUNDTRACE_SHADER_FEATURES=trace scripts/build-spirv.sh once it does"]
 fn opaque_every_scene_and_method_matches_the_cpu() {
     run(Mode::Opaque, &METHODS, &SCENES);
 }
 
 #[test]
-#[ignore = "the tracer does not compile to SPIR-V with rust-gpu 0.11 yet (Option/Result moves in tracer::march); build with BOUNDTRACE_SHADER_FEATURES=trace scripts/build-spirv.sh once it does"]
 fn transparent_all_roots_match_the_cpu() {
     run(
         Mode::Transparent,
