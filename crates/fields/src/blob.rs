@@ -563,6 +563,39 @@ mod tests {
     }
 
     #[test]
+    fn a_window_is_the_field_of_the_sub_slice() {
+        let all = scene();
+        let blobs = all.blobs();
+        let ray = Ray::new([-1.5, 0.1, 0.05], [1.0, 0.05, 0.0]);
+        for (start, end) in [(0, 4), (1, 3), (2, 2), (3, 9)] {
+            let win = Blobs::window_unchecked(0.4, blobs, start, end);
+            let sub = Blobs::new(0.4, &blobs[start.min(4)..end.min(4)]).unwrap();
+            assert_eq!(win.blobs(), sub.blobs());
+            for i in 0..20 {
+                let p = [-1.0 + 0.1 * i as f64, 0.05 * i as f64 - 0.4, 0.1];
+                let (a, b): (f64, f64) = (win.eval(p), sub.eval(p));
+                assert_eq!(a, b);
+            }
+            assert_eq!(win.lipschitz(), sub.lipschitz());
+            for (t0, t1) in [(0.0, 0.4), (1.0, 1.3), (1.4, 2.6)] {
+                assert_eq!(
+                    win.taylor_linear(&ray, t0, t1),
+                    sub.taylor_linear(&ray, t0, t1)
+                );
+                assert_eq!(
+                    win.taylor_quadratic(&ray, t0, t1),
+                    sub.taylor_quadratic(&ray, t0, t1)
+                );
+            }
+        }
+        // The whole set equals `new`.
+        assert_eq!(
+            Blobs::window_unchecked(0.4, blobs, 0, 4),
+            Blobs::new(0.4, blobs).unwrap()
+        );
+    }
+
+    #[test]
     fn rejects_bad_parameters() {
         let k = Kernel::gaussian(1.0f64).unwrap();
         assert!(PointBlob::new([f64::NAN, 0.0, 0.0], 1.0, k).is_err());

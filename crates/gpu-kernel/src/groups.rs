@@ -194,5 +194,21 @@ mod tests {
         assert!(FlatBlobGroups::new(0.5, &[4], &blobs).is_none()); // past the end
         assert!(FlatBlobGroups::new(f64::NAN, &[3], &blobs).is_none());
         assert!(FlatBlobGroups::new(0.5, &[1, 3], &blobs).is_some());
+        // `from_parts` reads the first `groups` words only (the shader's
+        // whole word buffer), and checks the count against them.
+        let words = [1, 3, 77, 0];
+        let two = FlatBlobGroups::from_parts(0.5, &words, 2, &blobs);
+        assert!(two.is_valid() && two.len() == 2);
+        assert!(!FlatBlobGroups::from_parts(0.5, &words, 3, &blobs).is_valid());
+        assert!(!FlatBlobGroups::from_parts(0.5, &words, 5, &blobs).is_valid());
+        assert!(!FlatBlobGroups::from_parts(0.5, &words, 0, &blobs).is_valid());
+        let p = [0.2, 0.1, 0.0];
+        let (a, b): (f64, f64) = (
+            two.eval(p),
+            FlatBlobGroups::new(0.5, &words[..2], &blobs)
+                .unwrap()
+                .eval(p),
+        );
+        assert_eq!(a, b);
     }
 }

@@ -341,4 +341,36 @@ mod tests {
         assert!(p.with_max_steps(0).is_err());
         assert_eq!(p.with_omega(1.6).unwrap().omega, 1.6);
     }
+
+    #[test]
+    fn is_valid_agrees_with_validate_and_names_the_field() {
+        let p = Params::<f64>::new();
+        assert!(p.is_valid());
+        let bad = [
+            (Params { eps: 0.0, ..p }, "eps"),
+            (
+                Params {
+                    min_step: -1.0,
+                    ..p
+                },
+                "min_step",
+            ),
+            (Params { omega: 2.0, ..p }, "omega"),
+            (Params { k: 1.0, ..p }, "k"),
+            (Params { max_steps: 0, ..p }, "max_steps"),
+            // The first failed check is reported.
+            (
+                Params {
+                    eps: f64::NAN,
+                    k: 0.0,
+                    ..p
+                },
+                "eps",
+            ),
+        ];
+        for (q, name) in bad {
+            assert!(!q.is_valid());
+            assert_eq!(q.validate().unwrap_err().name, name);
+        }
+    }
 }
