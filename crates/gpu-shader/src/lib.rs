@@ -4,9 +4,8 @@
 //! pinned rust-gpu nightly; the host (`boundtrace-gpu`) loads the module.
 //!
 //! Entry points: `interval_square` (the toolchain probe: ia-core interval
-//! arithmetic on the GPU, always built) and `trace_pixels` (feature
-//! `trace`; build with `BOUNDTRACE_SHADER_FEATURES=trace
-//! scripts/build-spirv.sh` — it does not compile yet, see its docs).
+//! arithmetic on the GPU, always built) and `trace_pixels` (default
+//! feature `trace`).
 #![cfg_attr(target_arch = "spirv", no_std)]
 
 #[cfg(feature = "trace")]
@@ -36,9 +35,8 @@ pub fn interval_square(
 /// One invocation per pixel, 8 × 8 per workgroup: traces pixel
 /// `(id.x, id.y)` and writes its record and hits.
 ///
-/// Behind the `trace` feature: rust-gpu 0.11 does not compile the tracer
-/// yet (it rejects moves of `Option`/`Result` values holding bounds in
-/// `boundtrace_tracer::march`: "cannot memcpy dynamically sized data").
+/// Behind the default `trace` feature (the tracer takes minutes to
+/// compile to SPIR-V; the probe alone seconds).
 #[cfg(feature = "trace")]
 #[spirv(compute(threads(8, 8)))]
 pub fn trace_pixels(

@@ -29,11 +29,12 @@
 //!
 //! **Status**: the toolchain works end to end ([`interval_probe`] runs
 //! `boundtrace-ia-core` interval code compiled by rust-gpu on lavapipe,
-//! bit-identical to the CPU), but the tracer itself does not compile to
-//! SPIR-V with rust-gpu 0.11 yet (it rejects moves of `Option`/`Result`
-//! values holding bounds in `boundtrace_tracer::march`), so the module has
-//! no `trace_pixels` entry point unless built with
-//! `BOUNDTRACE_SHADER_FEATURES=trace`, and [`GpuTracer::new`] reports that.
+//! bit-identical to the CPU). The tracer's shared code passes rust-gpu
+//! 0.11's code generation since issue 9 (session 6: no niche-encoded
+//! enums of aggregates, no sub-slices of storage buffers, no array or
+//! slice iterators, no string errors on the shader path); the module has
+//! the `trace_pixels` entry point by default (shader feature `trace`). See
+//! README "GPU" for what has been verified on lavapipe.
 //!
 //! Limits: `f32` only; the per-pixel root buffer of transparent mode holds
 //! [`MAX_GPU_ROOTS`] roots (more is a [`GpuError::MaxRoots`]); scenes with
@@ -343,9 +344,8 @@ impl GpuTracer {
         });
         if let Some(e) = scope.pop().await {
             return Err(GpuError::Shader(format!(
-                "{} (the `{ENTRY}` entry point needs the shader's `trace` feature: \
-                 BOUNDTRACE_SHADER_FEATURES=trace {BUILD_COMMAND}, which rust-gpu 0.11 \
-                 does not compile yet)",
+                "{} (the `{ENTRY}` entry point needs the shader's default `trace` \
+                 feature: rebuild the module with {BUILD_COMMAND})",
                 error_chain(&e)
             )));
         }
