@@ -4,8 +4,8 @@
 //! pinned rust-gpu nightly; the host (`boundtrace-gpu`) loads the module.
 //!
 //! Entry points: `interval_square` (the toolchain probe: ia-core interval
-//! arithmetic on the GPU, always built) and `trace_pixels` (default
-//! feature `trace`).
+//! arithmetic on the GPU, always built) and `trace_pixels` (feature
+//! `trace`: `BOUNDTRACE_SHADER_FEATURES=trace scripts/build-spirv.sh`).
 #![cfg_attr(target_arch = "spirv", no_std)]
 
 #[cfg(feature = "trace")]
@@ -35,8 +35,10 @@ pub fn interval_square(
 /// One invocation per pixel, 8 × 8 per workgroup: traces pixel
 /// `(id.x, id.y)` and writes its record and hits.
 ///
-/// Behind the default `trace` feature (the tracer takes minutes to
-/// compile to SPIR-V; the probe alone seconds).
+/// Behind the `trace` feature: its code generation passes, but rust-gpu
+/// 0.11's link step, which force-inlines every function touching a
+/// storage buffer (here: every function taking the field), did not finish
+/// in 70 minutes on a loaded 2-core machine (BENCHMARKS.md "GPU").
 #[cfg(feature = "trace")]
 #[spirv(compute(threads(8, 8)))]
 pub fn trace_pixels(

@@ -32,9 +32,12 @@
 //! bit-identical to the CPU). The tracer's shared code passes rust-gpu
 //! 0.11's code generation since issue 9 (session 6: no niche-encoded
 //! enums of aggregates, no sub-slices of storage buffers, no array or
-//! slice iterators, no string errors on the shader path); the module has
-//! the `trace_pixels` entry point by default (shader feature `trace`). See
-//! README "GPU" for what has been verified on lavapipe.
+//! slice iterators, no string errors on the shader path). The module has
+//! the `trace_pixels` entry point only when built with
+//! `BOUNDTRACE_SHADER_FEATURES=trace`, whose rust-gpu link step had not
+//! finished after 70 minutes on a loaded 2-core machine, so the GPU/CPU
+//! difftests are not verified yet and [`GpuTracer::new`] reports a module
+//! without it.
 //!
 //! Limits: `f32` only; the per-pixel root buffer of transparent mode holds
 //! [`MAX_GPU_ROOTS`] roots (more is a [`GpuError::MaxRoots`]); scenes with
@@ -344,8 +347,9 @@ impl GpuTracer {
         });
         if let Some(e) = scope.pop().await {
             return Err(GpuError::Shader(format!(
-                "{} (the `{ENTRY}` entry point needs the shader's default `trace` \
-                 feature: rebuild the module with {BUILD_COMMAND})",
+                "{} (the `{ENTRY}` entry point needs the shader's `trace` feature: \
+                 BOUNDTRACE_SHADER_FEATURES=trace {BUILD_COMMAND}; its rust-gpu link \
+                 step is slow, see BENCHMARKS.md \"GPU\")",
                 error_chain(&e)
             )));
         }
