@@ -163,10 +163,15 @@ impl<T: Real> PointBlob<T> {
 ///
 /// `S` is any storage of blobs: a fixed array `[PointBlob<T>; K]`, a slice
 /// `&[PointBlob<T>]` (`no_std`, no allocation) or a `Vec`.
+///
+/// The field sums the blobs `start..end` of the storage (all of them unless
+/// built by [`window_unchecked`](Blobs::window_unchecked)).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Blobs<T, S> {
     iso: T,
     blobs: S,
+    start: usize,
+    end: usize,
 }
 
 /// Per-blob ray data: enclosures of `u(t₀)`, `u'(t₀)`, the `u` range ends,
@@ -182,6 +187,13 @@ struct RayData<T> {
     du: Interval<T>,
     e: Interval<T>,
     two_alpha: Interval<T>,
+}
+
+/// `[f(a₀), f(a₁), f(a₂)]`: `<[_; 3]>::map`, which rust-gpu 0.11 cannot
+/// compile (it drains the array through pointer offsets).
+#[inline]
+fn map3<A: Copy, B>(a: [A; 3], f: impl Fn(A) -> B) -> [B; 3] {
+    [f(a[0]), f(a[1]), f(a[2])]
 }
 
 fn dot3<T: Real>(a: [Interval<T>; 3], b: [Interval<T>; 3]) -> Interval<T> {
@@ -200,7 +212,7 @@ impl<T: Real, S: AsRef<[PointBlob<T>]>> Blobs<T, S> {
                 reason: "must be finite",
             });
         }
-        Ok(Self { iso, blobs })
+        Ok(Self::new_unchecked(iso, blobs))
     }
 
     /// [`new`](Self::new) without the check, for the GPU shader (rust-gpu
@@ -208,7 +220,22 @@ impl<T: Real, S: AsRef<[PointBlob<T>]>> Blobs<T, S> {
     /// non-finite field instead of an error.
     #[inline]
     pub fn new_unchecked(iso: T, blobs: S) -> Self {
-        Self { iso, blobs }
+        let end = blobs.as_ref().len();
+        Self::window_unchecked(iso, blobs, 0, end)
+    }
+
+    /// The field of the blobs `start..end` of `blobs` (ends past the
+    /// storage are clipped), without sub-slicing the storage — a SPIR-V
+    /// shader cannot sub-slice a storage buffer — and without checking
+    /// `iso` (as [`new_unchecked`](Self::new_unchecked)).
+    #[inline]
+    pub fn window_unchecked(iso: T, blobs: S, start: usize, end: usize) -> Self {
+        Self {
+            iso,
+            blobs,
+            start,
+            end,
+        }
     }
 
     /// The iso-value.
@@ -220,7 +247,9 @@ impl<T: Real, S: AsRef<[PointBlob<T>]>> Blobs<T, S> {
     /// The blobs.
     #[inline]
     pub fn blobs(&self) -> &[PointBlob<T>] {
-        self.blobs.as_ref()
+        let all = self.blobs.as_ref();
+        let end = self.end.min(all.len());
+        all.get(self.start.min(end)..end).unwrap_or(&[])
     }
 
     /// The summed density `Σ wᵢ kᵢ(|p − cᵢ|)` in any number type (compact
@@ -230,7 +259,12 @@ impl<T: Real, S: AsRef<[PointBlob<T>]>> Blobs<T, S> {
         // culled must not claim validity beyond the interval the culling
         // was decided on (a constant's is infinite).
         let mut acc = crate::zero_like::<T, N>(&p[0]);
-        for b in self.blobs.as_ref() {
+        let all = self.blobs.as_ref();
+        let end = self.end.min(all.len());
+        let mut i = self.start;
+        while i < end {
+            let b = &all[i];
+            i += 1;
             let c = b.center;
             let d2 = (p[0] - c[0]).sqr() + (p[1] - c[1]).sqr() + (p[2] - c[2]).sqr();
             if b.outside_support(d2.enclosure()) {
@@ -248,7 +282,7 @@ impl<T: Real, S: AsRef<[PointBlob<T>]>> Blobs<T, S> {
     /// As [`PointBlob::support`]: for infinite-support kernels the field
     /// outside differs from `iso` by at most `eps` per blob.
     pub fn bounding_sphere(&self, eps: T) -> Option<Sphere<T>> {
-        let blobs = self.blobs.as_ref();
+        let blobs = self.blobs();
         let first = blobs.first()?;
         let (mut lo, mut hi) = (first.center, first.center);
         for b in blobs {
@@ -275,9 +309,9 @@ impl<T: Real, S: AsRef<[PointBlob<T>]>> Blobs<T, S> {
     /// Enclosures of the per-blob quantities along the ray on `[t0, t1]`.
     fn ray_data(b: &PointBlob<T>, ray: &Ray<T>, t0: T, t1: T) -> RayData<T> {
         let sigma = b.kernel.sigma();
-        let q = [0, 1, 2].map(|k| Interval::point(ray.origin[k]) - b.center[k]);
-        let v = ray.dir.map(Interval::point);
-        let at = |t: T| [0, 1, 2].map(|k| v[k] * t + q[k]);
+        let q = map3([0, 1, 2], |k| Interval::point(ray.origin[k]) - b.center[k]);
+        let v = map3(ray.dir, Interval::point);
+        let at = |t: T| map3([0, 1, 2], |k| v[k] * t + q[k]);
         let (r0, r1) = (at(t0), at(t1));
         let d0 = dot3(r0, r0);
         let d1 = dot3(r1, r1);
@@ -329,8 +363,8 @@ impl<T: Real, S: AsRef<[PointBlob<T>]>> Blobs<T, S> {
     /// `u'(t)·K'(u(t))` over enclosures `t ∈ T` (sound; tight for thin `T`).
     fn slope_at(b: &PointBlob<T>, ray: &Ray<T>, r: &RayData<T>, t: Interval<T>) -> Interval<T> {
         let sigma = b.kernel.sigma();
-        let v = ray.dir.map(Interval::point);
-        let x = [0, 1, 2].map(|k| v[k] * t + r.q[k]);
+        let v = map3(ray.dir, Interval::point);
+        let x = map3([0, 1, 2], |k| v[k] * t + r.q[k]);
         let u = dot3(x, x) / sigma / sigma;
         let du = dot3(v, x) * T::TWO / sigma / sigma;
         b.kernel.d_u(u) * du
@@ -366,8 +400,12 @@ impl<T: Real, S: AsRef<[PointBlob<T>]>> Blobs<T, S> {
         let zero = Interval::point(T::ZERO);
         let dt = ((crit - r.e).max(zero) * sigma * sigma / r.a).sqrt();
         let tr = Interval::new(t0, t1);
-        for tc in [r.tm - dt, r.tm + dt] {
-            let tc = tc.intersection(tr);
+        // An index loop: a shader cannot iterate an array by value.
+        let tcs = [r.tm - dt, r.tm + dt];
+        let mut i = 0;
+        while i < tcs.len() {
+            let tc = tcs[i].intersection(tr);
+            i += 1;
             if !tc.is_empty() {
                 s = s.hull(Self::slope_at(b, ray, r, tc));
             }
@@ -420,7 +458,12 @@ impl<T: Real, S: AsRef<[PointBlob<T>]>> Blobs<T, S> {
         }
         let zero = Interval::point(T::ZERO);
         let (mut f0, mut df0, mut df, mut d2f) = (zero, zero, zero, zero);
-        for b in self.blobs.as_ref() {
+        let all = self.blobs.as_ref();
+        let end = self.end.min(all.len());
+        let mut i = self.start;
+        while i < end {
+            let b = &all[i];
+            i += 1;
             let r = Self::ray_data(b, ray, t0, t1);
             if b.kernel.kind() == KernelKind::Compact && r.u_min.lo() >= T::ONE {
                 // The ray interval misses the support: exactly 0.
@@ -443,9 +486,18 @@ impl<T: Real, S: AsRef<[PointBlob<T>]>> Blobs<T, S> {
     }
 }
 
-/// Whether every enclosure is bounded and non-empty.
-fn usable<T: Real>(xs: &[Interval<T>]) -> bool {
-    xs.iter().all(|x| !x.is_empty() && x.is_bounded())
+/// Whether every enclosure is bounded and non-empty (an index loop over
+/// an array: a shader can neither iterate a slice nor make one of an
+/// array).
+fn usable<T: Real, const N: usize>(xs: [Interval<T>; N]) -> bool {
+    let mut i = 0;
+    while i < N {
+        if xs[i].is_empty() || !xs[i].is_bounded() {
+            return false;
+        }
+        i += 1;
+    }
+    true
 }
 
 impl<T: Real, S: AsRef<[PointBlob<T>]>> Field<T> for Blobs<T, S> {
@@ -457,7 +509,12 @@ impl<T: Real, S: AsRef<[PointBlob<T>]>> Field<T> for Blobs<T, S> {
     /// kernel (unbounded slope).
     fn lipschitz(&self) -> Option<T> {
         let mut l = Interval::point(T::ZERO);
-        for b in self.blobs.as_ref() {
+        let all = self.blobs.as_ref();
+        let end = self.end.min(all.len());
+        let mut i = self.start;
+        while i < end {
+            let b = &all[i];
+            i += 1;
             l = l + Interval::point(b.kernel.max_slope()?) * b.weight.abs();
         }
         Some(l.hi())
@@ -468,7 +525,7 @@ impl<T: Real, S: AsRef<[PointBlob<T>]>> Field<T> for Blobs<T, S> {
     /// interval or when `f'` is unbounded (inverse kernel near a center).
     fn taylor_linear(&self, ray: &Ray<T>, t0: T, t1: T) -> Option<ForwardLinear<T>> {
         let [f0, _, df, _] = self.taylor_parts(ray, t0, t1, false)?;
-        if !usable(&[f0, df]) {
+        if !usable([f0, df]) {
             return None;
         }
         let h = (Interval::point(t1) - t0).lo().max(T::ZERO);
@@ -482,7 +539,7 @@ impl<T: Real, S: AsRef<[PointBlob<T>]>> Field<T> for Blobs<T, S> {
     /// crossing its support boundary, inverse kernel near a center).
     fn taylor_quadratic(&self, ray: &Ray<T>, t0: T, t1: T) -> Option<ForwardQuadratic<T>> {
         let [f0, df0, _, d2f] = self.taylor_parts(ray, t0, t1, true)?;
-        if !usable(&[f0, df0, d2f]) {
+        if !usable([f0, df0, d2f]) {
             return None;
         }
         let h = (Interval::point(t1) - t0).lo().max(T::ZERO);
@@ -503,6 +560,39 @@ mod tests {
             PointBlob::new([0.1, -0.6, 0.3], 0.5, Kernel::compact(4, 0.8).unwrap()).unwrap(),
         ];
         Blobs::new(0.4, blobs).unwrap()
+    }
+
+    #[test]
+    fn a_window_is_the_field_of_the_sub_slice() {
+        let all = scene();
+        let blobs = all.blobs();
+        let ray = Ray::new([-1.5, 0.1, 0.05], [1.0, 0.05, 0.0]);
+        for (start, end) in [(0, 4), (1, 3), (2, 2), (3, 9)] {
+            let win = Blobs::window_unchecked(0.4, blobs, start, end);
+            let sub = Blobs::new(0.4, &blobs[start.min(4)..end.min(4)]).unwrap();
+            assert_eq!(win.blobs(), sub.blobs());
+            for i in 0..20 {
+                let p = [-1.0 + 0.1 * i as f64, 0.05 * i as f64 - 0.4, 0.1];
+                let (a, b): (f64, f64) = (win.eval(p), sub.eval(p));
+                assert_eq!(a, b);
+            }
+            assert_eq!(win.lipschitz(), sub.lipschitz());
+            for (t0, t1) in [(0.0, 0.4), (1.0, 1.3), (1.4, 2.6)] {
+                assert_eq!(
+                    win.taylor_linear(&ray, t0, t1),
+                    sub.taylor_linear(&ray, t0, t1)
+                );
+                assert_eq!(
+                    win.taylor_quadratic(&ray, t0, t1),
+                    sub.taylor_quadratic(&ray, t0, t1)
+                );
+            }
+        }
+        // The whole set equals `new`.
+        assert_eq!(
+            Blobs::window_unchecked(0.4, blobs, 0, 4),
+            Blobs::new(0.4, blobs).unwrap()
+        );
     }
 
     #[test]

@@ -14,12 +14,17 @@ use boundtrace_inclusion::{Field, FieldNum, ForwardLinear, ForwardQuadratic, Ray
 /// `min`/`max` folds over each group's [`Blobs`] methods), but without an
 /// array of group values, so a shader can build it over storage buffers.
 ///
+/// The ends are the first `groups` words of `ends` and a group is a
+/// [`Blobs::window_unchecked`] of the whole blob buffer: a shader cannot
+/// sub-slice a storage buffer.
+///
 /// Invariant (checked by [`new`](Self::new)): at least one group, `ends`
 /// non-decreasing and within `blobs`, every group non-empty, `iso` finite.
 #[derive(Clone, Copy, Debug)]
 pub struct FlatBlobGroups<'a, T> {
     iso: T,
     ends: &'a [u32],
+    groups: usize,
     blobs: &'a [PointBlob<T>],
 }
 
@@ -27,25 +32,31 @@ impl<'a, T: Real> FlatBlobGroups<'a, T> {
     /// The union of the groups ending at `ends` in `blobs`; `None` when
     /// the invariant does not hold.
     pub fn new(iso: T, ends: &'a [u32], blobs: &'a [PointBlob<T>]) -> Option<Self> {
-        let f = Self::from_parts(iso, ends, blobs);
+        let f = Self::from_parts(iso, ends, ends.len(), blobs);
         f.is_valid().then_some(f)
     }
 
-    /// The value without the check (for the shader, which must not build
-    /// an `Option` of slices): check [`is_valid`](Self::is_valid) before
-    /// use; an invalid value evaluates to NaN, never out of bounds.
-    pub fn from_parts(iso: T, ends: &'a [u32], blobs: &'a [PointBlob<T>]) -> Self {
-        Self { iso, ends, blobs }
+    /// The union of the groups ending at `ends[..groups]`, without the
+    /// check (for the shader, which must not build an `Option` of slices
+    /// nor sub-slice `ends`): check [`is_valid`](Self::is_valid) before
+    /// use; an invalid value never reads out of bounds.
+    pub fn from_parts(iso: T, ends: &'a [u32], groups: usize, blobs: &'a [PointBlob<T>]) -> Self {
+        Self {
+            iso,
+            ends,
+            groups,
+            blobs,
+        }
     }
 
     /// Whether the invariant holds.
     pub fn is_valid(&self) -> bool {
-        if self.ends.is_empty() || !self.iso.is_finite() {
+        if self.groups == 0 || self.groups > self.ends.len() || !self.iso.is_finite() {
             return false;
         }
         let mut start = 0u32;
         let mut n = 0;
-        while n < self.ends.len() {
+        while n < self.groups {
             if self.ends[n] <= start || self.ends[n] as usize > self.blobs.len() {
                 return false;
             }
@@ -55,45 +66,43 @@ impl<'a, T: Real> FlatBlobGroups<'a, T> {
         true
     }
 
-    /// Group `n` as a blob set (`None` never happens for a value built by
-    /// [`new`](Self::new): `iso` is finite and `n` in range).
+    /// Group `n` (`< groups`) as a blob set: a window of the blob buffer
+    /// (no `Option`, no sub-slice: both are beyond rust-gpu 0.11). The
+    /// invariant, checked before use, keeps the window non-empty and in
+    /// range; an index past `ends` gives an empty window.
     #[inline]
-    fn group(&self, n: usize) -> Option<Blobs<T, &'a [PointBlob<T>]>> {
-        let start = if n == 0 {
-            0
-        } else {
-            *self.ends.get(n - 1)? as usize
+    fn group(&self, n: usize) -> Blobs<T, &'a [PointBlob<T>]> {
+        let end_of = |i: usize| {
+            if i < self.ends.len() {
+                self.ends[i] as usize
+            } else {
+                0
+            }
         };
-        let end = *self.ends.get(n)? as usize;
-        Some(Blobs::new_unchecked(self.iso, self.blobs.get(start..end)?))
-    }
-
-    /// The field of group `n`, NaN ("no information") if it did not build.
-    #[inline]
-    fn group_eval<N: FieldNum<T>>(&self, n: usize, p: [N; 3]) -> N {
-        match self.group(n) {
-            Some(g) => g.eval(p),
-            None => N::constant(T::nan()),
-        }
+        let start = if n == 0 { 0 } else { end_of(n - 1) };
+        Blobs::window_unchecked(self.iso, self.blobs, start, end_of(n))
     }
 
     /// The number of groups.
     pub fn len(&self) -> usize {
-        self.ends.len()
+        self.groups
     }
 
     /// Whether there is no group (never, by the invariant).
     pub fn is_empty(&self) -> bool {
-        self.ends.is_empty()
+        self.groups == 0
     }
 }
 
 impl<T: Real> Field<T> for FlatBlobGroups<'_, T> {
     fn eval<N: FieldNum<T>>(&self, p: [N; 3]) -> N {
-        let mut acc = self.group_eval(0, p);
+        if self.groups == 0 {
+            return N::constant(T::nan());
+        }
+        let mut acc = self.group(0).eval(p);
         let mut n = 1;
-        while n < self.ends.len() {
-            acc = acc.min(self.group_eval(n, p));
+        while n < self.groups {
+            acc = acc.min(self.group(n).eval(p));
             n += 1;
         }
         acc
@@ -101,26 +110,32 @@ impl<T: Real> Field<T> for FlatBlobGroups<'_, T> {
     fn lipschitz(&self) -> Option<T> {
         let mut l = T::ZERO;
         let mut n = 0;
-        while n < self.ends.len() {
-            l = l.max(self.group(n)?.lipschitz()?);
+        while n < self.groups {
+            l = l.max(self.group(n).lipschitz()?);
             n += 1;
         }
         Some(l)
     }
     fn taylor_linear(&self, ray: &Ray<T>, t0: T, t1: T) -> Option<ForwardLinear<T>> {
-        let mut acc = self.group(0)?.taylor_linear(ray, t0, t1)?;
+        if self.groups == 0 {
+            return None;
+        }
+        let mut acc = self.group(0).taylor_linear(ray, t0, t1)?;
         let mut n = 1;
-        while n < self.ends.len() {
-            acc = acc.min(self.group(n)?.taylor_linear(ray, t0, t1)?);
+        while n < self.groups {
+            acc = acc.min(self.group(n).taylor_linear(ray, t0, t1)?);
             n += 1;
         }
         Some(acc)
     }
     fn taylor_quadratic(&self, ray: &Ray<T>, t0: T, t1: T) -> Option<ForwardQuadratic<T>> {
-        let mut acc = self.group(0)?.taylor_quadratic(ray, t0, t1)?;
+        if self.groups == 0 {
+            return None;
+        }
+        let mut acc = self.group(0).taylor_quadratic(ray, t0, t1)?;
         let mut n = 1;
-        while n < self.ends.len() {
-            acc = acc.min(self.group(n)?.taylor_quadratic(ray, t0, t1)?);
+        while n < self.groups {
+            acc = acc.min(self.group(n).taylor_quadratic(ray, t0, t1)?);
             n += 1;
         }
         Some(acc)
@@ -179,5 +194,21 @@ mod tests {
         assert!(FlatBlobGroups::new(0.5, &[4], &blobs).is_none()); // past the end
         assert!(FlatBlobGroups::new(f64::NAN, &[3], &blobs).is_none());
         assert!(FlatBlobGroups::new(0.5, &[1, 3], &blobs).is_some());
+        // `from_parts` reads the first `groups` words only (the shader's
+        // whole word buffer), and checks the count against them.
+        let words = [1, 3, 77, 0];
+        let two = FlatBlobGroups::from_parts(0.5, &words, 2, &blobs);
+        assert!(two.is_valid() && two.len() == 2);
+        assert!(!FlatBlobGroups::from_parts(0.5, &words, 3, &blobs).is_valid());
+        assert!(!FlatBlobGroups::from_parts(0.5, &words, 5, &blobs).is_valid());
+        assert!(!FlatBlobGroups::from_parts(0.5, &words, 0, &blobs).is_valid());
+        let p = [0.2, 0.1, 0.0];
+        let (a, b): (f64, f64) = (
+            two.eval(p),
+            FlatBlobGroups::new(0.5, &words[..2], &blobs)
+                .unwrap()
+                .eval(p),
+        );
+        assert_eq!(a, b);
     }
 }

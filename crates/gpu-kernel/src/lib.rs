@@ -375,10 +375,7 @@ pub fn render_pixel(
         }
         Some(SceneKind::Blobs) => unsupported(),
         Some(SceneKind::BlobGroups) => {
-            if c.groups as usize > words.len() {
-                return unsupported();
-            }
-            let field = FlatBlobGroups::from_parts(c.iso, &words[..c.groups as usize], blobs);
+            let field = FlatBlobGroups::from_parts(c.iso, words, c.groups as usize, blobs);
             if field.is_valid() {
                 pixel(&field, &setup, c.max_roots, x, y, roots, hits, base)
             } else {
@@ -386,7 +383,10 @@ pub fn render_pixel(
             }
         }
         #[cfg(target_arch = "spirv")]
-        Some(SceneKind::Blobtree) => unsupported(),
+        Some(SceneKind::Blobtree) => {
+            let _ = floats;
+            unsupported()
+        }
         None => unsupported(),
     }
 }

@@ -5,8 +5,7 @@
 //!
 //! Entry points: `interval_square` (the toolchain probe: ia-core interval
 //! arithmetic on the GPU, always built) and `trace_pixels` (feature
-//! `trace`; build with `BOUNDTRACE_SHADER_FEATURES=trace
-//! scripts/build-spirv.sh` — it does not compile yet, see its docs).
+//! `trace`: `BOUNDTRACE_SHADER_FEATURES=trace scripts/build-spirv.sh`).
 #![cfg_attr(target_arch = "spirv", no_std)]
 
 #[cfg(feature = "trace")]
@@ -36,9 +35,10 @@ pub fn interval_square(
 /// One invocation per pixel, 8 × 8 per workgroup: traces pixel
 /// `(id.x, id.y)` and writes its record and hits.
 ///
-/// Behind the `trace` feature: rust-gpu 0.11 does not compile the tracer
-/// yet (it rejects moves of `Option`/`Result` values holding bounds in
-/// `boundtrace_tracer::march`: "cannot memcpy dynamically sized data").
+/// Behind the `trace` feature: its code generation passes, but rust-gpu
+/// 0.11's link step, which force-inlines every function touching a
+/// storage buffer (here: every function taking the field), did not finish
+/// in 70 minutes on a loaded 2-core machine (BENCHMARKS.md "GPU").
 #[cfg(feature = "trace")]
 #[spirv(compute(threads(8, 8)))]
 pub fn trace_pixels(

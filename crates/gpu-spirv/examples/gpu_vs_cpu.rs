@@ -1,6 +1,7 @@
 //! GPU (SPIR-V on wgpu) vs CPU render time for a few scenes and methods.
-//! Needs the `trace_pixels` entry point (`BOUNDTRACE_SHADER_FEATURES=trace
-//! scripts/build-spirv.sh`), which rust-gpu 0.11 does not compile yet.
+//! Needs the module with the `trace_pixels` entry point
+//! (`BOUNDTRACE_SHADER_FEATURES=trace scripts/build-spirv.sh`; slow: see
+//! BENCHMARKS.md "GPU") and a Vulkan adapter.
 //!
 //! ```text
 //! scripts/build-spirv.sh

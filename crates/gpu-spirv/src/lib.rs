@@ -29,11 +29,15 @@
 //!
 //! **Status**: the toolchain works end to end ([`interval_probe`] runs
 //! `boundtrace-ia-core` interval code compiled by rust-gpu on lavapipe,
-//! bit-identical to the CPU), but the tracer itself does not compile to
-//! SPIR-V with rust-gpu 0.11 yet (it rejects moves of `Option`/`Result`
-//! values holding bounds in `boundtrace_tracer::march`), so the module has
-//! no `trace_pixels` entry point unless built with
-//! `BOUNDTRACE_SHADER_FEATURES=trace`, and [`GpuTracer::new`] reports that.
+//! bit-identical to the CPU). The tracer's shared code passes rust-gpu
+//! 0.11's code generation since issue 9 (session 6: no niche-encoded
+//! enums of aggregates, no sub-slices of storage buffers, no array or
+//! slice iterators, no string errors on the shader path). The module has
+//! the `trace_pixels` entry point only when built with
+//! `BOUNDTRACE_SHADER_FEATURES=trace`, whose rust-gpu link step had not
+//! finished after 70 minutes on a loaded 2-core machine, so the GPU/CPU
+//! difftests are not verified yet and [`GpuTracer::new`] reports a module
+//! without it.
 //!
 //! Limits: `f32` only; the per-pixel root buffer of transparent mode holds
 //! [`MAX_GPU_ROOTS`] roots (more is a [`GpuError::MaxRoots`]); scenes with
@@ -267,13 +271,17 @@ impl fmt::Debug for GpuTracer {
     }
 }
 
-const STORAGE_ENTRIES: [(u32, bool); 6] = [
+/// The shader's storage bindings (binding, read-only): constants, words,
+/// floats, blobs; pixels, hits, and the per-pixel root buffer (scratch,
+/// `max_roots` [`Root`](boundtrace_tracer::Root)s of 2 words per pixel).
+const STORAGE_ENTRIES: [(u32, bool); 7] = [
     (0, true),
     (1, true),
     (2, true),
     (3, true),
     (4, false),
     (5, false),
+    (6, false),
 ];
 
 impl GpuTracer {
@@ -340,8 +348,8 @@ impl GpuTracer {
         if let Some(e) = scope.pop().await {
             return Err(GpuError::Shader(format!(
                 "{} (the `{ENTRY}` entry point needs the shader's `trace` feature: \
-                 BOUNDTRACE_SHADER_FEATURES=trace {BUILD_COMMAND}, which rust-gpu 0.11 \
-                 does not compile yet)",
+                 BOUNDTRACE_SHADER_FEATURES=trace {BUILD_COMMAND}; its rust-gpu link \
+                 step is slow, see BENCHMARKS.md \"GPU\")",
                 error_chain(&e)
             )));
         }
@@ -473,11 +481,13 @@ impl GpuTracer {
             })
         };
         let outs = [output("pixels", pix_bytes), output("hits", hit_bytes)];
+        // The tracer's root buffer: a window of `max_roots` slots per pixel.
+        let roots = output("roots", (hits.max(1) * 2 * 4) as u64);
         let backs = [
             readback("pixels-read", pix_bytes),
             readback("hits-read", hit_bytes),
         ];
-        let all: Vec<&wgpu::Buffer> = inputs.iter().chain(outs.iter()).collect();
+        let all: Vec<&wgpu::Buffer> = inputs.iter().chain(outs.iter()).chain([&roots]).collect();
         let entries: Vec<wgpu::BindGroupEntry> = all
             .iter()
             .enumerate()

@@ -50,6 +50,17 @@ pub enum Composition {
 }
 
 impl Composition {
+    /// The variant of a `#[repr(u32)]` code (an unknown code reads as the
+    /// default).
+    #[inline]
+    pub(crate) fn from_code(code: u32) -> Self {
+        match code {
+            1 => Self::RelaxStart,
+            2 => Self::RelaxMax,
+            _ => Self::ValidityInterval,
+        }
+    }
+
     /// Combines the modes of two operands: the non-default one wins (so a
     /// constant, built with the default, never overrides a ray parameter
     /// built with another mode).

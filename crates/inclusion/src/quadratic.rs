@@ -58,7 +58,36 @@ pub struct ForwardQuadratic<T> {
     lo: [T; 2],
     hi: [T; 2],
     h: T,
-    mode: Composition,
+    mode: ModeCode,
+}
+
+/// A [`Composition`] stored as its `u32` code, so that
+/// `Option<ForwardQuadratic>` has a tag rather than a niche in this field:
+/// rust-gpu 0.11 cannot move a value out of a niche-encoded enum ("cannot
+/// memcpy dynamically sized data").
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(transparent)]
+pub(crate) struct ModeCode(u32);
+
+impl ModeCode {
+    const DEFAULT: Self = Self(Composition::ValidityInterval as u32);
+
+    #[inline]
+    fn get(self) -> Composition {
+        Composition::from_code(self.0)
+    }
+
+    #[inline]
+    fn join(self, other: Self) -> Self {
+        self.get().join(other.get()).into()
+    }
+}
+
+impl From<Composition> for ModeCode {
+    #[inline]
+    fn from(c: Composition) -> Self {
+        Self(c as u32)
+    }
 }
 
 impl<T: Real> ForwardQuadratic<T> {
@@ -68,7 +97,7 @@ impl<T: Real> ForwardQuadratic<T> {
         lo: [T::ZERO; 2],
         hi: [T::ZERO; 2],
         h: T::ZERO,
-        mode: Composition::ValidityInterval,
+        mode: ModeCode::DEFAULT,
     };
 
     /// Builds a bound from its parts: start enclosure `[s₋, s₊]`, lower
@@ -87,7 +116,7 @@ impl<T: Real> ForwardQuadratic<T> {
             lo,
             hi,
             h,
-            mode: Composition::ValidityInterval,
+            mode: ModeCode::DEFAULT,
         }
     }
 
@@ -116,7 +145,7 @@ impl<T: Real> ForwardQuadratic<T> {
             [T::ONE, T::ZERO],
             sub_down(t1, t0),
         );
-        r.mode = mode;
+        r.mode = mode.into();
         r
     }
 
@@ -175,7 +204,7 @@ impl<T: Real> ForwardQuadratic<T> {
     /// The [`Composition`] variant this bound was computed with.
     #[inline]
     pub fn composition(&self) -> Composition {
-        self.mode
+        self.mode.get()
     }
 
     /// A sound enclosure `[f₋(τ), f₊(τ)]` at `τ = t − t₀` (rounded outward).
@@ -273,10 +302,10 @@ impl<T: Real> ForwardQuadratic<T> {
     }
 
     #[inline]
-    pub(crate) fn from_sides(lo: Side<T>, hi: Side<T>, h: T, mode: Composition) -> Self {
+    pub(crate) fn from_sides(lo: Side<T>, hi: Side<T>, h: T, mode: impl Into<ModeCode>) -> Self {
         let start = Interval::new(lo.s, hi.s);
         let mut r = Self::from_parts(start, [lo.a, lo.b], [hi.a, hi.b], h);
-        r.mode = mode;
+        r.mode = mode.into();
         r
     }
 
@@ -459,7 +488,7 @@ impl<T: Real> ForwardQuadratic<T> {
             return self;
         }
         let (fl, fu) = (self.lower_side(), self.upper_side());
-        let (h, mode) = (self.h, self.mode);
+        let (h, mode) = (self.h, self.mode.get());
         let all = (T::NEG_INFINITY, T::INFINITY);
         let (r0, r1) = (fl.range_lo(h), fu.range_hi(h));
         // Beyond 2^(p−3) floats are too sparse to place quarter periods.
@@ -536,7 +565,7 @@ impl<T: Real> ForwardQuadratic<T> {
             return Self::INVALID;
         }
         let (fl, fu) = (self.lower_side(), self.upper_side());
-        let mode = self.mode;
+        let mode = self.mode.get();
         let mut h = self.h;
         let all = (T::NEG_INFINITY, T::INFINITY);
         let nonneg = (T::ZERO, T::INFINITY);
@@ -848,8 +877,15 @@ impl<T: Real> Mul for ForwardQuadratic<T> {
         let gs = [rhs.lower_side(), rhs.upper_side()];
         let mut lower: Option<Side<T>> = None;
         let mut upper: Option<Side<T>> = None;
-        for f in fs {
-            for g in gs {
+        // Index loops: rust-gpu 0.11 cannot iterate an array by value.
+        let mut fi = 0;
+        while fi < fs.len() {
+            let f = fs[fi];
+            fi += 1;
+            let mut gi = 0;
+            while gi < gs.len() {
+                let g = gs[gi];
+                gi += 1;
                 let c = poly::quartic(f, g);
                 let mut l = poly::reduce_lo(c, h);
                 let mut u = poly::reduce_hi(c, h);

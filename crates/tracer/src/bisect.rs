@@ -18,7 +18,7 @@
 //! [`STACK_CAPACITY`] bounds the depth; intervals that cannot be split
 //! further (float resolution, or the stack is full) are leaves.
 
-use crate::march::{Next, TOUCH_DEPTH, Walk, value_enclosure};
+use crate::march::{TOUCH_DEPTH, Walk, value_enclosure};
 use crate::method::{Mode, Params};
 use crate::trace::{Root, Side, Status, Trace};
 use boundtrace_ia_core::{Affine, Interval, Real};
@@ -151,8 +151,9 @@ pub(crate) fn bisect<T: Real, F: Field<T>, M: Narrow<T>>(
             _ => Side::Touch,
         };
         let t = if fa.contains(T::ZERO) { a2 } else { mid };
-        if let Next::Stop(tr) = w.register(Root { t, side }, a) {
-            return tr;
+        let next = w.register(Root { t, side }, a);
+        if next.stop {
+            return next.trace;
         }
         if side == Side::Touch {
             // The rest of this contact, up to t + eps, is the same root:
@@ -177,8 +178,9 @@ pub(crate) fn bisect<T: Real, F: Field<T>, M: Narrow<T>>(
             };
             if let Some(side) = side {
                 let tc = t + (end - t) * T::HALF;
-                if let Next::Stop(tr) = w.register(Root { t: tc, side }, a) {
-                    return tr;
+                let next = w.register(Root { t: tc, side }, a);
+                if next.stop {
+                    return next.trace;
                 }
             }
         }

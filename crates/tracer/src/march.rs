@@ -84,6 +84,10 @@ struct StepBound<T> {
     safe: Option<T>,
     /// The validity length `h` (the window, possibly shortened).
     h: T,
+    /// `false` when the method needs a bound the field lacks (a flag rather
+    /// than an `Option<StepBound>`: rust-gpu 0.11 cannot move this struct
+    /// out of an enum, "cannot memcpy dynamically sized data").
+    supported: bool,
 }
 
 impl<T: Real> StepBound<T> {
@@ -97,6 +101,16 @@ impl<T: Real> StepBound<T> {
             start,
             safe: safe.filter(|&r| r <= h),
             h,
+            supported: true,
+        }
+    }
+    /// The answer for a method whose bound the field lacks.
+    fn unsupported() -> Self {
+        Self {
+            start: Interval::EMPTY,
+            safe: None,
+            h: T::ZERO,
+            supported: false,
         }
     }
     fn from_linear(b: ForwardLinear<T>, len: T) -> Self {
@@ -104,6 +118,19 @@ impl<T: Real> StepBound<T> {
     }
     fn from_quadratic(b: ForwardQuadratic<T>, len: T) -> Self {
         Self::clipped(b.start(), b.first_root(), b.validity(), len)
+    }
+    // `match` instead of `?`/`map`: see `supported`.
+    fn from_linear_or_unsupported(b: Option<ForwardLinear<T>>, len: T) -> Self {
+        match b {
+            Some(b) => Self::from_linear(b, len),
+            None => Self::unsupported(),
+        }
+    }
+    fn from_quadratic_or_unsupported(b: Option<ForwardQuadratic<T>>, len: T) -> Self {
+        match b {
+            Some(b) => Self::from_quadratic(b, len),
+            None => Self::unsupported(),
+        }
     }
 }
 
@@ -139,11 +166,16 @@ pub(crate) struct Walk<'a, T> {
 }
 
 /// Whether to go on after registering a root.
-pub(crate) enum Next<T> {
-    /// Continue tracing.
-    Go,
-    /// Stop with this trace record.
-    Stop(Trace<T>),
+///
+/// A struct with a flag rather than an enum `Go | Stop(Trace)`: rust-gpu
+/// 0.11 cannot move a `Trace` out of an enum ("cannot memcpy dynamically
+/// sized data", "cannot cast between pointer types").
+#[derive(Clone, Copy)]
+pub(crate) struct Next<T> {
+    /// Stop with `trace`; else continue tracing.
+    pub(crate) stop: bool,
+    /// The final trace record when `stop`.
+    pub(crate) trace: Trace<T>,
 }
 
 impl<'a, T: Real> Walk<'a, T> {
@@ -166,6 +198,20 @@ impl<'a, T: Real> Walk<'a, T> {
         }
     }
 
+    fn go(&self, t: T) -> Next<T> {
+        Next {
+            stop: false,
+            trace: self.done(Status::Finished, t),
+        }
+    }
+
+    fn stop(&self, status: Status, t_reached: T) -> Next<T> {
+        Next {
+            stop: true,
+            trace: self.done(status, t_reached),
+        }
+    }
+
     /// Registers a root at `t` (the span before `t_before` is processed).
     /// A [`Side::Touch`] within `eps` of the previous root is the same
     /// contact and is dropped; a crossing within `eps` after a touch
@@ -174,7 +220,7 @@ impl<'a, T: Real> Walk<'a, T> {
         if let Some(last) = self.n.checked_sub(1).map(|i| self.roots.get(i as usize)) {
             if (root.t - last.t).abs() <= self.eps {
                 if root.side == Side::Touch {
-                    return Next::Go;
+                    return self.go(root.t);
                 }
                 if last.side == Side::Touch {
                     self.n -= 1;
@@ -183,36 +229,38 @@ impl<'a, T: Real> Walk<'a, T> {
         }
         let i = self.n as usize;
         if i >= self.roots.len {
-            return Next::Stop(self.done(Status::BufferFull, t_before));
+            return self.stop(Status::BufferFull, t_before);
         }
         self.roots.set(i, root);
         self.n += 1;
         match self.mode {
-            Mode::Opaque => Next::Stop(self.done(Status::Finished, root.t)),
-            Mode::Transparent => Next::Go,
+            Mode::Opaque => self.stop(Status::Finished, root.t),
+            Mode::Transparent => self.go(root.t),
         }
     }
 }
 
-/// The outcome of a probe at `t`.
-enum Probe<T> {
-    /// Proven root-free up to this `t`; continue from there with the same sign.
-    Clear(T),
-    /// A root was registered; continue from this `t` with this sign.
-    Root(T, i32),
-    /// Stop.
-    Stop(Trace<T>),
+/// The outcome of a probe at `t` (a struct, not an enum: see [`Next`]):
+/// stop with `next.trace`, or go on from `t` with the sign `sign` before
+/// it (`rooted`: a root was registered; else `[t_probe, t]` was proven
+/// root-free and `sign` is the sign at the probe).
+#[derive(Clone, Copy)]
+struct Probe<T> {
+    next: Next<T>,
+    t: T,
+    sign: i32,
+    rooted: bool,
 }
 
 impl<T> Probe<T> {
-    /// Where to go on after a probe at a point of sign `s` (sign `prev`
-    /// before it): the new `t`, the sign before it and whether a root was
-    /// registered; or the final record.
-    fn landing(self, s: i32, prev: i32) -> Result<(T, i32, bool), Trace<T>> {
-        match self {
-            Probe::Clear(tn) => Ok((tn, if s != 0 { s } else { prev }, false)),
-            Probe::Root(tn, sn) => Ok((tn, sn, true)),
-            Probe::Stop(tr) => Err(tr),
+    /// After registering a root: go on from `t` with `sign`, unless `next`
+    /// stops.
+    fn root(next: Next<T>, t: T, sign: i32) -> Self {
+        Self {
+            next,
+            t,
+            sign,
+            rooted: true,
         }
     }
 }
@@ -244,10 +292,7 @@ fn probe<T: Real, F: Field<T>>(
             1 => Side::Leaving,
             _ => Side::Touch,
         };
-        return match w.register(Root { t, side }, t) {
-            Next::Go => Probe::Root(tp, sp),
-            Next::Stop(tr) => Probe::Stop(tr),
-        };
+        return Probe::root(w.register(Root { t, side }, t), tp, sp);
     }
     if sp != approach {
         // A sign change (or `f(tp)` zero within rounding) in [lo, tp].
@@ -261,36 +306,32 @@ fn probe<T: Real, F: Field<T>>(
         } else {
             Side::Leaving
         };
-        return match w.register(Root { t: t_root, side }, t) {
-            Next::Go => Probe::Root(tp, -approach),
-            Next::Stop(tr) => Probe::Stop(tr),
-        };
+        return Probe::root(w.register(Root { t: t_root, side }, t), tp, -approach);
     }
     // Same sign at both ends: prove [t, tp] root-free, find a sign change
     // in it, or call it a touch.
     match resolve(field, ray, t, tp, approach, &mut w.stats) {
-        Fine::Clear => Probe::Clear(tp),
+        Fine::Clear => Probe {
+            next: w.go(tp),
+            t: tp,
+            sign: approach,
+            rooted: false,
+        },
         Fine::Crossing(t_root, m) => {
             let side = if approach > 0 {
                 Side::Entering
             } else {
                 Side::Leaving
             };
-            match w.register(Root { t: t_root, side }, t) {
-                Next::Go => Probe::Root(m, -approach),
-                Next::Stop(tr) => Probe::Stop(tr),
-            }
+            Probe::root(w.register(Root { t: t_root, side }, t), m, -approach)
         }
-        Fine::Touch(u) => match w.register(
-            Root {
+        Fine::Touch(u) => {
+            let root = Root {
                 t: u,
                 side: Side::Touch,
-            },
-            t,
-        ) {
-            Next::Go => Probe::Root(tp, approach),
-            Next::Stop(tr) => Probe::Stop(tr),
-        },
+            };
+            Probe::root(w.register(root, t), tp, approach)
+        }
     }
 }
 
@@ -380,8 +421,9 @@ fn by_kind<B>(
     }
 }
 
-/// A bound at `t` on `[t, e]` for the window-based methods; `None` when the
-/// method needs a bound the field lacks.
+/// A bound at `t` on `[t, e]` for the window-based methods; not
+/// [`supported`](StepBound::supported) when the method needs a bound the
+/// field lacks.
 fn window_bound<T: Real, F: Field<T>>(
     field: &F,
     ray: &Ray<T>,
@@ -389,7 +431,7 @@ fn window_bound<T: Real, F: Field<T>>(
     e: T,
     method: Method,
     stats: &mut RayStats,
-) -> Option<StepBound<T>> {
+) -> StepBound<T> {
     let len = e - t;
     let linear = |kind, stats: &mut RayStats| {
         by_kind(
@@ -409,7 +451,7 @@ fn window_bound<T: Real, F: Field<T>>(
             ForwardQuadratic::tighter,
         )
     };
-    Some(match method {
+    match method {
         Method::Segment => {
             // Galin et al.'s local Lipschitz bound λ = max |f′| on the
             // segment (eq. 11): from the Taylor lines when the field has
@@ -420,40 +462,47 @@ fn window_bound<T: Real, F: Field<T>>(
                 None => field.eval(ray.at(t, e)),
             };
             if !b.is_valid() {
-                return Some(StepBound::from_linear(b, len));
+                return StepBound::from_linear(b, len);
             }
             let [m_lo, m_hi] = b.slopes();
             let lambda = m_lo.abs().max(m_hi.abs());
             if !lambda.is_finite() {
                 // No local Lipschitz bound here (e.g. |x| at x = 0).
-                return Some(StepBound {
+                return StepBound {
                     start: Interval::EMPTY,
                     safe: None,
                     h: T::ZERO,
-                });
+                    supported: true,
+                };
             }
             StepBound::from_linear(
                 ForwardLinear::lipschitz(b.start(), lambda, b.validity().min(len)),
                 len,
             )
         }
-        Method::LinearTaylor => StepBound::from_linear(linear(BoundKind::Taylor, stats)?, len),
-        Method::LinearBottomUp => StepBound::from_linear(linear(BoundKind::BottomUp, stats)?, len),
-        Method::LinearMixed => StepBound::from_linear(linear(BoundKind::Mixed, stats)?, len),
+        Method::LinearTaylor => {
+            StepBound::from_linear_or_unsupported(linear(BoundKind::Taylor, stats), len)
+        }
+        Method::LinearBottomUp => {
+            StepBound::from_linear_or_unsupported(linear(BoundKind::BottomUp, stats), len)
+        }
+        Method::LinearMixed => {
+            StepBound::from_linear_or_unsupported(linear(BoundKind::Mixed, stats), len)
+        }
         Method::QuadraticTaylor => {
-            StepBound::from_quadratic(quadratic(BoundKind::Taylor, stats)?, len)
+            StepBound::from_quadratic_or_unsupported(quadratic(BoundKind::Taylor, stats), len)
         }
         Method::QuadraticBottomUp => {
-            StepBound::from_quadratic(quadratic(BoundKind::BottomUp, stats)?, len)
+            StepBound::from_quadratic_or_unsupported(quadratic(BoundKind::BottomUp, stats), len)
         }
         Method::QuadraticMixed => {
-            StepBound::from_quadratic(quadratic(BoundKind::Mixed, stats)?, len)
+            StepBound::from_quadratic_or_unsupported(quadratic(BoundKind::Mixed, stats), len)
         }
         // Sphere, Interval and Affine have their own loops.
         Method::Sphere | Method::Interval | Method::Affine | Method::ScalisQuadratic => {
-            return None;
+            StepBound::unsupported()
         }
-    })
+    }
 }
 
 /// The bottom-up quadratic bound of `f` on `[t, e]`, composed with the
@@ -557,9 +606,10 @@ pub(crate) fn march<T: Real, F: Field<T>>(
         }
         w.stats.steps += 1;
         let e = advance(t, win.max(eps)).min(t1);
-        let Some(b) = window_bound(field, ray, t, e, method, &mut w.stats) else {
+        let b = window_bound(field, ray, t, e, method, &mut w.stats);
+        if !b.supported {
             return w.done(Status::Unsupported, t);
-        };
+        }
         // A bound undefined at t, not exact there (e.g. |x| or √ at a kink
         // of the field), or valid on less than `eps` (validity intervals,
         // paper §4.2, can collapse near a kink or a near-tangency: stepping
@@ -588,12 +638,12 @@ pub(crate) fn march<T: Real, F: Field<T>>(
             }
         };
         if let Some(r) = near {
-            let (tn, sn, rooted) =
-                match probe(field, ray, t, t1, s, prev, r, eps, &mut w).landing(s, prev) {
-                    Ok(next) => next,
-                    Err(tr) => return tr,
-                };
-            (t, prev) = (tn, sn);
+            let p = probe(field, ray, t, t1, s, prev, r, eps, &mut w);
+            if p.next.stop {
+                return p.next.trace;
+            }
+            let rooted = p.rooted;
+            (t, prev) = (p.t, p.sign);
             // Past a root (transparent mode) Alg. 1 starts afresh on the
             // rest of the span [t, t1]; after a cleared eps it grows again.
             win = if rooted { t1 - t } else { eps * params.k };
@@ -662,10 +712,11 @@ fn sphere<T: Real, F: Field<T>>(
             round::div_down(f.mig(), lambda)
         };
         if r < eps {
-            match probe(field, ray, t, t1, s, prev, r, eps, &mut w).landing(s, prev) {
-                Ok((tn, sn, _)) => (t, prev) = (tn, sn),
-                Err(tr) => return tr,
+            let p = probe(field, ray, t, t1, s, prev, r, eps, &mut w);
+            if p.next.stop {
+                return p.next.trace;
             }
+            (t, prev) = (p.t, p.sign);
             continue;
         }
         prev = s;

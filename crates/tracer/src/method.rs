@@ -199,6 +199,15 @@ impl<T: Real> Default for Params<T> {
     }
 }
 
+/// The checks of [`Params::validate`], in order: (field, reason).
+const PARAM_CHECKS: [(&str, &str); 5] = [
+    ("eps", "must be finite and > 0"),
+    ("min_step", "must be finite and >= 0"),
+    ("omega", "must be in [1, 2)"),
+    ("k", "must be finite and > 1"),
+    ("max_steps", "must be >= 1"),
+];
+
 impl<T: Real> Params<T> {
     /// The defaults: `eps = 1e-4`, `min_step = 0` (off), `omega = 1`,
     /// `k = 2` (the paper's), `max_steps = 10_000` (sphere tracing of
@@ -220,23 +229,41 @@ impl<T: Real> Params<T> {
     /// # Errors
     /// The first invalid field.
     pub fn validate(&self) -> Result<(), InvalidParams> {
-        let bad = |name, reason| Err(InvalidParams { name, reason });
+        match self.first_invalid() {
+            0 => Ok(()),
+            i => {
+                let (name, reason) = PARAM_CHECKS[i - 1];
+                Err(InvalidParams { name, reason })
+            }
+        }
+    }
+
+    /// Whether [`validate`](Self::validate) succeeds (without building the
+    /// error, whose strings a SPIR-V shader cannot hold).
+    #[inline]
+    pub fn is_valid(&self) -> bool {
+        self.first_invalid() == 0
+    }
+
+    /// `0` when valid, else `1 +` the index of the first failed check in
+    /// [`PARAM_CHECKS`].
+    fn first_invalid(&self) -> usize {
         if !(self.eps.is_finite() && self.eps > T::ZERO) {
-            return bad("eps", "must be finite and > 0");
+            return 1;
         }
         if !(self.min_step.is_finite() && self.min_step >= T::ZERO) {
-            return bad("min_step", "must be finite and >= 0");
+            return 2;
         }
         if !(self.omega >= T::ONE && self.omega < T::TWO) {
-            return bad("omega", "must be in [1, 2)");
+            return 3;
         }
         if !(self.k.is_finite() && self.k > T::ONE) {
-            return bad("k", "must be finite and > 1");
+            return 4;
         }
         if self.max_steps == 0 {
-            return bad("max_steps", "must be >= 1");
+            return 5;
         }
-        Ok(())
+        0
     }
 
     /// With ε at the root.
@@ -313,5 +340,37 @@ mod tests {
         assert!(p.with_k(1.0).is_err());
         assert!(p.with_max_steps(0).is_err());
         assert_eq!(p.with_omega(1.6).unwrap().omega, 1.6);
+    }
+
+    #[test]
+    fn is_valid_agrees_with_validate_and_names_the_field() {
+        let p = Params::<f64>::new();
+        assert!(p.is_valid());
+        let bad = [
+            (Params { eps: 0.0, ..p }, "eps"),
+            (
+                Params {
+                    min_step: -1.0,
+                    ..p
+                },
+                "min_step",
+            ),
+            (Params { omega: 2.0, ..p }, "omega"),
+            (Params { k: 1.0, ..p }, "k"),
+            (Params { max_steps: 0, ..p }, "max_steps"),
+            // The first failed check is reported.
+            (
+                Params {
+                    eps: f64::NAN,
+                    k: 0.0,
+                    ..p
+                },
+                "eps",
+            ),
+        ];
+        for (q, name) in bad {
+            assert!(!q.is_valid());
+            assert_eq!(q.validate().unwrap_err().name, name);
+        }
     }
 }

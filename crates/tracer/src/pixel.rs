@@ -72,6 +72,35 @@ pub fn trace_pixel_in<T: Real, F: boundtrace_inclusion::Field<T>>(
     roots: &mut [Root<T>],
     window: [usize; 2],
 ) -> PixelTrace<T> {
+    trace_pixel_with(setup, x, y, window[1], move |ray, span| {
+        trace_in(
+            field,
+            ray,
+            span,
+            setup.method,
+            setup.mode,
+            &setup.params,
+            roots,
+            window,
+        )
+    })
+}
+
+/// The pixel loop body shared by every renderer: the ray through pixel
+/// `(x, y)`, its span in `setup.bounds`, and `tracer(ray, span)` when the
+/// ray meets the box (an all-zero [`Status::Finished`] record when it
+/// does not); the reported root count is clamped to `max_roots`, the
+/// tracer's buffer length. [`trace_pixel_in`] (the GPU shader) passes
+/// [`trace_in`] with the setup's method, mode and parameters; the CPU
+/// renderer ([`render`](crate::render)) its per-ray tracer (the same
+/// [`trace`](fn@crate::trace), or a scene-specific one such as SCALIS's).
+pub fn trace_pixel_with<T: Real, R: FnOnce(&Ray<T>, [T; 2]) -> Trace<T>>(
+    setup: &PixelSetup<T>,
+    x: u32,
+    y: u32,
+    max_roots: usize,
+    tracer: R,
+) -> PixelTrace<T> {
     let ray = setup.camera.ray(x, y, setup.width, setup.height);
     let span = ray_box_span(&ray, &setup.bounds);
     let tr = match span {
@@ -81,22 +110,13 @@ pub fn trace_pixel_in<T: Real, F: boundtrace_inclusion::Field<T>>(
             t_reached: T::ZERO,
             stats: RayStats::default(),
         },
-        Some(span) => trace_in(
-            field,
-            &ray,
-            span,
-            setup.method,
-            setup.mode,
-            &setup.params,
-            roots,
-            window,
-        ),
+        Some(span) => tracer(&ray, span),
     };
-    // `trace_in` writes at most `len` roots; never report more.
-    let n = if (tr.roots as usize) < window[1] {
+    // The tracer writes at most `max_roots` roots; never report more.
+    let n = if (tr.roots as usize) < max_roots {
         tr.roots
     } else {
-        window[1] as u32
+        max_roots as u32
     };
     PixelTrace {
         ray,

@@ -4,7 +4,7 @@
 //! Fig. 10, 12 and 13, §7).
 //!
 //! Each pixel's ray is clipped to the scene's bounding box by
-//! [`ray_box_span`] and traced there by [`trace`](fn@crate::trace) with the
+//! [`ray_box_span`](crate::camera::ray_box_span) and traced there by [`trace`](fn@crate::trace) with the
 //! chosen [`Method`] and [`Mode`]: opaque mode keeps the first root,
 //! transparent mode every root up to `max_roots` (a fixed per-pixel buffer,
 //! [`Status::BufferFull`] beyond). At each root the surface normal
@@ -41,9 +41,10 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
-use crate::camera::{Camera, ray_box_span};
+use crate::camera::Camera;
 use crate::image::{Image, ImageError, depth_gray, heat, normal_rgb};
 use crate::method::{InvalidParams, Method, Mode, Params};
+use crate::pixel::{PixelSetup, trace_pixel_with};
 use crate::trace::{RayStats, Root, Side, Status, Trace, normal, trace};
 use boundtrace_ia_core::Real;
 use boundtrace_inclusion::{Field, Ray};
@@ -184,7 +185,7 @@ fn check_size(width: u32, height: u32) -> Result<(), RenderError> {
 /// One pixel's ray: its span in the bounding box and how tracing went.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Pixel<T> {
-    /// The span of the ray in the bounding box ([`ray_box_span`]); `None`
+    /// The span of the ray in the bounding box ([`ray_box_span`](crate::camera::ray_box_span)); `None`
     /// when the ray misses the box (it is then not traced).
     pub span: Option<[T; 2]>,
     /// The trace record: number of roots, [`Status`], point reached and
@@ -369,7 +370,7 @@ pub struct Frame<T> {
 }
 
 /// Renders `field` through `camera` inside `bounds = [min, max]`: one ray per
-/// pixel, clipped to the box by [`ray_box_span`] and traced with the
+/// pixel, clipped to the box by [`ray_box_span`](crate::camera::ray_box_span) and traced with the
 /// settings' method and mode. With the `parallel` feature rows are rendered
 /// in parallel (rayon), with a result bit-identical to [`render_serial`].
 ///
@@ -538,29 +539,25 @@ fn render_row<T: Real, F: Field<T>, R: Fn(&Ray<T>, [T; 2], &mut [Root<T>]) -> Tr
         pixels: Vec::with_capacity(settings.width as usize),
         hits: Vec::new(),
     };
+    // The per-pixel code is the GPU shader's (`pixel::trace_pixel_with`).
+    let setup = PixelSetup {
+        camera: *camera,
+        bounds: *bounds,
+        width: settings.width,
+        height: settings.height,
+        method: settings.method,
+        mode: settings.mode,
+        params: settings.params,
+    };
     for x in 0..settings.width {
-        let ray = camera.ray(x, y, settings.width, settings.height);
-        let span = ray_box_span(&ray, bounds);
-        let tr = match span {
-            None => Trace {
-                roots: 0,
-                status: Status::Finished,
-                t_reached: T::ZERO,
-                stats: RayStats::default(),
-            },
-            Some(span) => tracer(&ray, span, buf),
-        };
-        // `trace` writes at most `buf.len()` roots; never index past it.
-        let n = (tr.roots as usize).min(buf.len());
-        for root in &buf[..n] {
-            row.hits.push(hit_at(field, &ray, root));
+        let px = trace_pixel_with(&setup, x, y, buf.len(), |ray, span| tracer(ray, span, buf));
+        // The root count is clamped to `buf.len()`.
+        for root in &buf[..px.trace.roots as usize] {
+            row.hits.push(hit_at(field, &px.ray, root));
         }
         row.pixels.push(Pixel {
-            span,
-            trace: Trace {
-                roots: n as u32,
-                ..tr
-            },
+            span: px.span,
+            trace: px.trace,
         });
     }
     row

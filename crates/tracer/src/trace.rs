@@ -163,7 +163,7 @@ pub fn trace_in<T: Real, F: Field<T>>(
     };
     let [base, len] = window;
     let fits = len > 0 && base <= roots.len() && len <= roots.len() - base;
-    if params.validate().is_err() || !(span[0] <= span[1]) || !fits {
+    if !params.is_valid() || !(span[0] <= span[1]) || !fits {
         return unsupported;
     }
     let slots = march::RootSlots {

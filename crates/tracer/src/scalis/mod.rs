@@ -61,7 +61,7 @@ pub mod list;
 pub use list::PrimitiveLists;
 pub use list::{ListError, PrimitiveHit, RayPrimitives, check_segments, for_each_region};
 
-use crate::march::{Next, TOUCH_DEPTH, Walk};
+use crate::march::{TOUCH_DEPTH, Walk};
 use crate::method::{Method, Mode, Params};
 use crate::trace::{RayStats, Root, Side, Status, Trace, trace};
 use boundtrace_fields::scalis::{ScalisSegment, ScalisSkeleton};
@@ -565,8 +565,9 @@ fn process_region<T: Real>(
                 }
             };
             let t = if a.f.contains(T::ZERO) { a.t } else { mid };
-            if let Next::Stop(tr) = w.register(Root { t, side }, a.t) {
-                return Err(tr);
+            let next = w.register(Root { t, side }, a.t);
+            if next.stop {
+                return Err(next.trace);
             }
             if side == Side::Touch {
                 // the rest of this contact, up to t + eps, is the same root
