@@ -598,7 +598,9 @@ pub fn scene_parse(data: &[u8]) -> Result<(), String> {
     let again = SceneFile::parse(&file.to_json())
         .map_err(|e| format!("a parsed file does not parse back: {e}\n{}", file.to_json()))?;
     if again != file {
-        return Err(format!("print/parse round trip differs:\n{file:?}\n{again:?}"));
+        return Err(format!(
+            "print/parse round trip differs:\n{file:?}\n{again:?}"
+        ));
     }
     match file.build::<f64>() {
         Err(e) if e.message.is_empty() => Err(format!("empty error message: {e:?}")),
