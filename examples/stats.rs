@@ -4,11 +4,12 @@
 //!
 //! ```text
 //! cargo run --release --example stats -- [--scenes a,b|all] [--methods m,n|all]
-//!     [--mode opaque|transparent|both] [--rays N] [--seed S] [--scene-seed S]
-//!     [--eps E] [--max-steps N] [--baseline METHOD|none]
+//!     [--mode opaque|transparent|both] [--rays N] [--rays-for name=N,…]
+//!     [--seed S] [--scene-seed S] [--eps E] [--max-steps N] [--baseline METHOD|none]
 //! ```
 //! (add `--features parallel` to trace the rays on every core; the counts
-//! are the same). For each scene × mode it prints a Markdown table: rays are
+//! are the same). `--rays-for` gives some scenes their own ray count (the
+//! large aggregates, whose full-tree methods cost seconds per ray). For each scene × mode it prints a Markdown table: rays are
 //! launched from the faces of the scene's bounding box (enlarged by 0.1% of
 //! its diagonal) in the 6 axis directions, origins uniform on the faces
 //! ([`RaySet`]); per method the average/median/maximal steps, average field
@@ -27,7 +28,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 const USAGE: &str = "usage: stats [--scenes a,b|all] [--methods m,n|all] \
-[--mode opaque|transparent|both] [--rays N] [--seed S] [--scene-seed S] [--eps E] \
+[--mode opaque|transparent|both] [--rays N] [--rays-for name=N,...] [--seed S] [--scene-seed S] [--eps E] \
 [--max-steps N] [--baseline METHOD|none]";
 
 /// Failing rays printed per method.
@@ -38,6 +39,8 @@ struct Options {
     methods: Vec<Method>,
     modes: Vec<Mode>,
     rays: usize,
+    /// Per-scene ray counts overriding `rays` (`--rays-for name=N,…`).
+    rays_for: Vec<(String, usize)>,
     seed: u64,
     scene_seed: u64,
     params: Params<f64>,
@@ -62,6 +65,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
         methods: Method::ALL.to_vec(),
         modes: vec![Mode::Opaque, Mode::Transparent],
         rays: 20_000,
+        rays_for: Vec::new(),
         seed: 1,
         scene_seed: scenes::DEFAULT_SEED,
         params: Params::new(),
@@ -112,6 +116,24 @@ fn parse(args: &[String]) -> Result<Options, String> {
                     .filter(|&n: &usize| n > 0)
                     .ok_or_else(|| number("a positive integer"))?
             }
+            "--rays-for" => {
+                for item in value.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+                    let (name, n) = item
+                        .split_once('=')
+                        .ok_or_else(|| format!("--rays-for: `{item}` is not name=N"))?;
+                    if !scenes::NAMES.contains(&name) {
+                        return Err(format!(
+                            "--rays-for: unknown scene `{name}`; expected one of: {}",
+                            scenes::NAMES.join(", ")
+                        ));
+                    }
+                    let n =
+                        n.parse().ok().filter(|&n: &usize| n > 0).ok_or_else(|| {
+                            format!("--rays-for: `{n}` is not a positive integer")
+                        })?;
+                    o.rays_for.push((name.to_string(), n));
+                }
+            }
             "--seed" => o.seed = value.parse().map_err(|_| number("an integer"))?,
             "--scene-seed" => o.scene_seed = value.parse().map_err(|_| number("an integer"))?,
             "--eps" => {
@@ -140,8 +162,14 @@ fn parse(args: &[String]) -> Result<Options, String> {
 /// The tables of one scene.
 fn scene_tables(scene: &Scene<f64>, o: &Options) -> Result<(), String> {
     let (name, primitives) = (scene.name(), scene.primitive_count());
+    let count = o
+        .rays_for
+        .iter()
+        .rev()
+        .find(|(n, _)| n == name)
+        .map_or(o.rays, |&(_, n)| n);
     let rays =
-        RaySet::new(enlarged(scene.bounds(), 1e-3), o.rays, o.seed).map_err(|e| e.to_string())?;
+        RaySet::new(enlarged(scene.bounds(), 1e-3), count, o.seed).map_err(|e| e.to_string())?;
     let clock = Instant::now();
     let rp = ReferenceParams::new(o.params.eps).map_err(|e| e.to_string())?;
     let reference = scene_reference(scene, &rays, &rp).map_err(|e| e.to_string())?;
