@@ -4,14 +4,14 @@
 # example, printed as Markdown on stdout (scripts/benchmarks.sh splices it
 # into BENCHMARKS.md between the `stats` markers).
 #
-# RAYS (default 5000) rays per scene; the large aggregates get fewer (their
+# RAYS (default 2000) rays per scene; the large aggregates get fewer (their
 # full-tree methods and dense reference cost seconds per ray): RAYS_FOR
 # overrides the per-scene counts. Set CARGO_TARGET_DIR to reuse a build.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-RAYS="${RAYS:-5000}"
-RAYS_FOR="${RAYS_FOR:-molecule=1000,scalis-foam=1000,aggregate-2=1000,aggregate-2-smooth=1000,aggregate-3=30,aggregate-3-smooth=30,aggregate-4=6,aggregate-4-smooth=6}"
+RAYS="${RAYS:-2000}"
+RAYS_FOR="${RAYS_FOR:-blobs=5000,blobs-sum=5000,hrbf-8=5000,aggregate-1=5000,molecule=100,hrbf-17=1000,scalis-tree=1000,scalis-foam=1000,aggregate-1-smooth=1000,aggregate-2=1000,aggregate-2-smooth=1000,aggregate-3=30,aggregate-3-smooth=30,aggregate-4=6,aggregate-4-smooth=6}"
 args=(--scenes all --methods all --mode both --rays "$RAYS" --rays-for "$RAYS_FOR")
 
 cargo build --quiet --release --features parallel --example stats >&2
