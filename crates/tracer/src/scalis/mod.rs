@@ -264,8 +264,14 @@ impl<T: Real> Ctx<'_, T> {
     /// A sound enclosure of `iso − f` at `t`, from the hits whose
     /// `[entry, exit]` contains `t` (the others are exactly `0` there).
     fn value(&self, hits: &[PrimitiveHit<T>], t: T) -> Interval<T> {
-        let p = self.ray.at::<Interval<T>>(t, t);
-        let mut acc = Interval::point(T::ZERO);
+        Interval::point(self.iso) - self.density_at::<Interval<T>>(hits, t)
+    }
+
+    /// The density `f(o + t·d)` in `N`, summed over the hits whose
+    /// `[entry, exit]` contains `t` (the others are exactly `0` there).
+    fn density_at<N: FieldNum<T>>(&self, hits: &[PrimitiveHit<T>], t: T) -> N {
+        let p = self.ray.at::<N>(t, t);
+        let mut acc = N::constant(T::ZERO);
         for h in hits {
             if h.entry > t {
                 break;
@@ -274,21 +280,12 @@ impl<T: Real> Ctx<'_, T> {
                 acc = acc + self.seg(h).density(p);
             }
         }
-        Interval::point(self.iso) - acc
+        acc
     }
 
     /// `(G, G')` of the normalized field `g(f(o + t·d)) − 1` at `t`.
     fn hermite(&self, hits: &[PrimitiveHit<T>], t: T) -> (T, T) {
-        let p = self.ray.at::<Jet<T>>(t, t);
-        let mut acc = Jet::constant(T::ZERO);
-        for h in hits {
-            if h.entry > t {
-                break;
-            }
-            if h.exit >= t {
-                acc = acc + self.seg(h).density(p);
-            }
-        }
+        let acc = self.density_at::<Jet<T>>(hits, t);
         let s = self.seg(&hits[0]);
         if !(acc.v > T::ZERO) {
             // outside every support: g(0) − 1, flat
