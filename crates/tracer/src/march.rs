@@ -48,7 +48,7 @@ use boundtrace_inclusion::{BoundKind, Composition, Field, ForwardLinear, Forward
 /// The sign of an enclosure: `1` if it is positive, `-1` if negative, `0`
 /// if it contains `0` (or is empty).
 #[inline]
-fn sign_of<T: Real>(iv: Interval<T>) -> i32 {
+pub(crate) fn sign_of<T: Real>(iv: Interval<T>) -> i32 {
     if iv.is_empty() {
         0
     } else if iv.lo() > T::ZERO {

@@ -66,7 +66,7 @@ pub mod list;
 pub use list::PrimitiveLists;
 pub use list::{ListError, PrimitiveHit, RayPrimitives, check_segments, for_each_region};
 
-use crate::march::{TOUCH_DEPTH, Walk};
+use crate::march::{TOUCH_DEPTH, Walk, sign_of};
 use crate::method::{Method, Mode, Params};
 use crate::trace::{RayStats, Root, Side, Status, Trace, trace};
 use boundtrace_fields::scalis::{ScalisSegment, ScalisSkeleton};
@@ -234,20 +234,6 @@ struct Pt<T> {
     t: T,
     f: Interval<T>,
     herm: Option<(T, T)>,
-}
-
-/// `1`, `-1` or `0` (contains zero or empty).
-#[inline]
-fn sign_of<T: Real>(iv: Interval<T>) -> i32 {
-    if iv.is_empty() {
-        0
-    } else if iv.lo() > T::ZERO {
-        1
-    } else if iv.hi() < T::ZERO {
-        -1
-    } else {
-        0
-    }
 }
 
 /// `true` unless the field is proven positive (the bisection's convention).
