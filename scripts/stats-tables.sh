@@ -7,9 +7,17 @@
 # RAYS (default 2000) rays per scene; the large aggregates get fewer (their
 # full-tree methods and dense reference cost seconds per ray): RAYS_FOR
 # overrides the per-scene counts. Set CARGO_TARGET_DIR to reuse a build.
+# `--quick`: 100 rays per scene (2 on the largest aggregates), to try it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
+if [ "${1:-}" = "--quick" ]; then
+    RAYS=100
+    RAYS_FOR="aggregate-3=4,aggregate-3-smooth=4,aggregate-4=2,aggregate-4-smooth=2"
+elif [ $# -gt 0 ]; then
+    echo "usage: scripts/stats-tables.sh [--quick]" >&2
+    exit 2
+fi
 RAYS="${RAYS:-2000}"
 RAYS_FOR="${RAYS_FOR:-blobs=5000,blobs-sum=5000,hrbf-8=5000,aggregate-1=5000,molecule=100,hrbf-17=1000,scalis-tree=1000,scalis-foam=1000,aggregate-1-smooth=1000,aggregate-2=1000,aggregate-2-smooth=1000,aggregate-3=30,aggregate-3-smooth=30,aggregate-4=6,aggregate-4-smooth=6}"
 args=(--scenes all --methods all --mode both --rays "$RAYS" --rays-for "$RAYS_FOR")
