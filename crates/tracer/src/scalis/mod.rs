@@ -39,17 +39,12 @@
 //!   midpoint splits (bisection); on intervals shorter than
 //!   [`REFINE_EPS`]` · eps` with a sign change, the split point comes from
 //!   the polynomial interpolant (polynomial refinement).
-//! - **`sphere`** with the per-ray Lipschitz bound of §1.7 ("per primitive
-//!   and per ray"): one constant for the whole ray, the sum over the
-//!   primitives whose support the ray crosses of each one's directional
-//!   Lipschitz bound over its whole crossing
-//!   ([`ScalisSegment::directional_lipschitz`], ch. 2 §2.1.1) — instead of
-//!   one global constant that the thinnest primitive of the whole skeleton
-//!   dictates. Sphere tracing runs on each gap-free region of the ray (the
-//!   gaps between crossed supports are skipped, as for every method here).
-//!   Until 2026-11-24 the constant was recomputed on every piece between
-//!   support entries and exits, which is closer to segment tracing than to
-//!   §1.7's per-ray baseline (BENCHMARKS.md, "SCALIS fast tracing").
+//! - **`sphere`** with the per-ray Lipschitz bound of §1.7: the region is
+//!   cut where the set of crossed supports changes, and sphere tracing runs
+//!   on each piece with the sum of the directional Lipschitz bounds
+//!   ([`ScalisSegment::directional_lipschitz`], ch. 2 §2.1.1) of the
+//!   primitives whose support the piece crosses — instead of one global
+//!   constant that the thinnest primitive of the whole skeleton dictates.
 //!
 //! Every other method runs the generic [`trace`](crate::trace()) on the whole
 //! skeleton.
@@ -664,8 +659,8 @@ impl<T: Real> Field<T> for Window<'_, T> {
     }
 }
 
-/// Sphere tracing with one Lipschitz bound per ray (§1.7; module docs),
-/// skipping the gaps between crossed supports.
+/// Sphere tracing with per-ray, per-window Lipschitz bounds (§1.7; module
+/// docs).
 fn sphere_per_ray<T: Real, S: AsRef<[ScalisSegment<T>]>>(
     skeleton: &ScalisSkeleton<T, S>,
     hits: &[PrimitiveHit<T>],
@@ -685,17 +680,6 @@ fn sphere_per_ray<T: Real, S: AsRef<[ScalisSegment<T>]>>(
     let speed_lo = (Interval::point(x).sqr() + Interval::point(y).sqr() + Interval::point(z).sqr())
         .sqrt()
         .lo();
-    // One Lipschitz constant for the whole ray (§1.7, "per primitive and
-    // per ray"): the sum over the primitives whose support the ray crosses
-    // of each one's directional bound over its whole crossing.
-    let mut lip = Interval::point(T::ZERO);
-    for h in hits {
-        let (u, v) = (h.entry.max(span[0]), h.exit.min(span[1]));
-        if u <= v {
-            lip = lip + Interval::point(ctx.seg(h).directional_lipschitz(ray, u, v));
-        }
-    }
-    let lip_ray = round::div_up(lip.hi(), speed_lo);
     let mut n = 0usize;
     let mut stats = RayStats::default();
     let mut out: Option<Trace<T>> = None;
@@ -705,65 +689,86 @@ fn sphere_per_ray<T: Real, S: AsRef<[ScalisSegment<T>]>>(
             return true;
         }
         let rh = &hits[i..j];
-        let (a, b) = (r0, r1);
-        let left = params.max_steps.saturating_sub(stats.steps);
-        let (Ok(p), true) = (params.with_max_steps(left.max(1)), left > 0) else {
-            out = Some(Trace {
-                roots: n as u32,
-                status: Status::MaxSteps,
-                t_reached: a,
-                stats,
-            });
-            return false;
-        };
-        let win = Window {
-            ctx: &ctx,
-            hits: rh,
-            lipschitz: if lip_ray > T::ZERO {
-                lip_ray
-            } else {
-                T::MIN_SUBNORMAL
-            },
-        };
-        let buf = &mut roots[n..];
-        if buf.is_empty() {
-            out = Some(Trace {
-                roots: n as u32,
-                status: Status::BufferFull,
-                t_reached: a,
-                stats,
-            });
-            return false;
-        }
-        let tr = trace(&win, ray, [a, b], Method::Sphere, mode, &p, buf);
-        stats = stats + tr.stats;
-        let mut got = tr.roots as usize;
-        // a root on the window boundary may be reported twice
-        if got > 0 && n > 0 && (roots[n].t - roots[n - 1].t).abs() <= params.eps {
-            roots.copy_within(n + 1..n + got, n);
-            got -= 1;
-        }
-        n += got;
-        match tr.status {
-            Status::Finished if mode == Mode::Opaque && n > 0 => {
+        let mut a = r0;
+        while a < r1 {
+            // the next event (an entry or exit) after a
+            let mut b = r1;
+            for h in rh {
+                if h.entry > a && h.entry < b {
+                    b = h.entry;
+                }
+                if h.exit > a && h.exit < b {
+                    b = h.exit;
+                }
+            }
+            let mut lip = Interval::point(T::ZERO);
+            for h in rh {
+                if h.entry <= b && h.exit >= a {
+                    let (u, v) = (a.max(h.entry), b.min(h.exit));
+                    lip = lip + Interval::point(ctx.seg(h).directional_lipschitz(ray, u, v));
+                }
+            }
+            let lipschitz = round::div_up(lip.hi(), speed_lo);
+            let left = params.max_steps.saturating_sub(stats.steps);
+            let (Ok(p), true) = (params.with_max_steps(left.max(1)), left > 0) else {
                 out = Some(Trace {
                     roots: n as u32,
-                    status: Status::Finished,
-                    t_reached: roots[n - 1].t,
+                    status: Status::MaxSteps,
+                    t_reached: a,
+                    stats,
+                });
+                return false;
+            };
+            let win = Window {
+                ctx: &ctx,
+                hits: rh,
+                lipschitz: if lipschitz > T::ZERO {
+                    lipschitz
+                } else {
+                    T::MIN_SUBNORMAL
+                },
+            };
+            let buf = &mut roots[n..];
+            if buf.is_empty() {
+                out = Some(Trace {
+                    roots: n as u32,
+                    status: Status::BufferFull,
+                    t_reached: a,
                     stats,
                 });
                 return false;
             }
-            Status::Finished => {}
-            s => {
-                out = Some(Trace {
-                    roots: n as u32,
-                    status: s,
-                    t_reached: tr.t_reached,
-                    stats,
-                });
-                return false;
+            let tr = trace(&win, ray, [a, b], Method::Sphere, mode, &p, buf);
+            stats = stats + tr.stats;
+            let mut got = tr.roots as usize;
+            // a root on the window boundary may be reported twice
+            if got > 0 && n > 0 && (roots[n].t - roots[n - 1].t).abs() <= params.eps {
+                roots.copy_within(n + 1..n + got, n);
+                got -= 1;
             }
+            n += got;
+            match tr.status {
+                Status::Finished if mode == Mode::Opaque && n > 0 => {
+                    out = Some(Trace {
+                        roots: n as u32,
+                        status: Status::Finished,
+                        t_reached: roots[n - 1].t,
+                        stats,
+                    });
+                    return false;
+                }
+                Status::Finished => {}
+                s => {
+                    out = Some(Trace {
+                        roots: n as u32,
+                        status: s,
+                        t_reached: tr.t_reached,
+                        stats,
+                    });
+                    return false;
+                }
+            }
+            a = b;
         }
         true
     });
