@@ -67,8 +67,8 @@ struct RenderArgs {
     #[arg(short = 'o', long = "out")]
     output: PathBuf,
     /// Tracing method (`boundtrace methods`); default: `quadratic-taylor`,
-    /// or `interval` on blobtrees and `affine` on HRBFs (which have no
-    /// Taylor bounds).
+    /// or `interval` on blobtrees and homothetic skeletons and `affine` on
+    /// HRBFs (which have no quadratic Taylor bounds).
     #[arg(long, value_parser = parse_method)]
     method: Option<Method>,
     /// Image size.
@@ -330,6 +330,8 @@ fn default_method<T>(field: &SceneField<T>) -> Method {
     match field {
         SceneField::Blobtree(_) => Method::Interval,
         SceneField::Hrbf(_) => Method::Affine,
+        // no quadratic Taylor bound; fastest in `boundtrace stats` (README)
+        SceneField::Homothetic(_) => Method::Interval,
         _ => Method::QuadraticTaylor,
     }
 }

@@ -247,20 +247,28 @@ impl<T: Real, S: AsRef<[Segment<T>]>> HomotheticSkeleton<T, S> {
     }
 
     /// The box outside of which segment `s`'s term is exactly `0` (compact
-    /// kernels: the segment's box grown by `σ·max(r_a, r_b)`, rounded
-    /// outward); `None` for the Cauchy kernel.
+    /// kernels: the segment's box grown by `σ·max(r_a, r_b)`); `None` for
+    /// the Cauchy kernel.
+    ///
+    /// Computed in plain floats (it is on the evaluation path) and widened
+    /// by `4ε·(|x| + σ·r) + 4·MIN_SUBNORMAL` per side, more than the at most
+    /// three roundings of `x ∓ σ·r` (each `≤ ε/2` relative, or half a
+    /// subnormal), so the box contains the exact one.
     pub fn support_box(&self, s: &Segment<T>) -> Option<[[T; 3]; 2]> {
         let SegmentKernel::CompactPolynomial { sigma, .. } = self.kernel else {
             return None;
         };
-        let grow = Interval::point(sigma) * Interval::point(s.ra().max(s.rb()));
+        let grow = sigma * s.ra().max(s.rb());
+        let four = T::TWO * T::TWO;
+        let tiny = four * T::MIN_SUBNORMAL;
         let (a, b) = (s.a(), s.b());
         let mut lo = [T::ZERO; 3];
         let mut hi = [T::ZERO; 3];
         let mut k = 0;
         while k < 3 {
-            lo[k] = (Interval::point(a[k].min(b[k])) - grow).lo();
-            hi[k] = (Interval::point(a[k].max(b[k])) + grow).hi();
+            let (mn, mx) = (a[k].min(b[k]), a[k].max(b[k]));
+            lo[k] = mn - grow - ((mn.abs() + grow) * four * T::EPSILON + tiny);
+            hi[k] = mx + grow + ((mx.abs() + grow) * four * T::EPSILON + tiny);
             k += 1;
         }
         Some([lo, hi])
