@@ -45,6 +45,10 @@
 //!   `segment` tracing and `linear-taylor` use. No quadratic Taylor bound
 //!   is offered (`h_S` is only Lipschitz where the argmin switches
 //!   between an end-point and the interior).
+//! - **Fallback.** Where an affine or forward evaluation of a term is not
+//!   finite (the division by the floored `τ_x` of the closed form), the
+//!   term is replaced by its interval enclosure on the query's box
+//!   intersected with the kernel's range `[0, 1]`.
 //! - **Culling.** A compact kernel vanishes beyond `h_S ≥ σ`, i.e. outside
 //!   the sphere-cone of the radii scaled by `σ`, whose box is the segment's
 //!   box grown by `σ·max(r_a, r_b)` (rounded outward). Evaluation and the
@@ -301,7 +305,25 @@ impl<T: Real, S: AsRef<[Segment<T>]>> HomotheticSkeleton<T, S> {
             if self.misses(s, &e) {
                 continue;
             }
-            acc = acc + self.kernel.eval_sq(s.homothetic_sq(p));
+            let mut term = self.kernel.eval_sq(s.homothetic_sq(p));
+            let enc = term.enclosure();
+            if !enc.is_empty() && !enc.is_bounded() {
+                // Affine and forward forms of the closed form can blow up
+                // (division by the floored `τ_x`, then clamps that cannot
+                // recover an infinite form) where intervals stay tight:
+                // replace the term by its interval enclosure on the query's
+                // box, within the kernel's range [0, 1] (sound: every value
+                // of the term on the query lies in both).
+                let r: Interval<T> = self.kernel.eval_sq(s.homothetic_sq(e));
+                let (lo, hi) = if r.is_empty() {
+                    (T::ZERO, T::ONE)
+                } else {
+                    (r.lo().max(T::ZERO), r.hi().min(T::ONE))
+                };
+                let z = crate::zero_like::<T, N>(&p[0]);
+                term = (z + lo).join(z + hi);
+            }
+            acc = acc + term;
         }
         acc * self.scale
     }
@@ -475,6 +497,45 @@ mod tests {
                     }
                 }
             }
+        }
+    }
+
+    /// At the edge of a support box the affine form of the closed form is
+    /// infinite; the interval fallback keeps it finite and tight (this
+    /// window of the shipped `skeleton-homothetic` scene was reported as a
+    /// spurious root by affine bisection before the fallback).
+    #[test]
+    fn affine_fallback_keeps_support_edges_tight() {
+        use boundtrace_ia_core::Affine;
+        let v = [
+            ([0.0, -0.8, 0.0], 0.16),
+            ([0.0, 0.0, 0.0], 0.12),
+            ([-0.5, 0.45, 0.1], 0.06),
+            ([0.45, 0.5, -0.1], 0.08),
+            ([0.05, 0.75, 0.3], 0.05),
+            ([-0.6, -0.75, 0.2], 0.04),
+        ];
+        let segs: [Segment<f64>; 5] = [(0, 1), (1, 2), (1, 3), (1, 4), (0, 5)]
+            .map(|(i, j)| seg(v[i].0, v[i].1, v[j].0, v[j].1));
+        let k = SegmentKernel::compact_polynomial(4, 1.6).unwrap();
+        let sk = HomotheticSkeleton::new(segs, k, 1.0).unwrap();
+        let ray = Ray::new(
+            [
+                -0.898_708_443_344_732_4,
+                -1.027_847_890_502_219_3,
+                0.455_304_024_271_052_7,
+            ],
+            [1.0, 0.0, 0.0],
+        );
+        for i in 0..4 {
+            let t = 0.042_708 + 1e-4 * f64::from(i);
+            let af: Affine<f64, 1> = sk.eval(ray.at(t - 5e-5, t + 5e-5));
+            let r = af.to_interval();
+            let v: f64 = sk.eval(ray.at(t, t));
+            assert!(
+                r.is_bounded() && r.contains(v) && r.lo() > 0.0,
+                "{t}: {r:?} {v}"
+            );
         }
     }
 
