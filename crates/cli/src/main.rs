@@ -546,30 +546,37 @@ fn stats(a: &StatsArgs, quiet: bool) -> Result<(), Fail> {
         "rays",
         &format!("{}: dense reference", scene.name()),
     );
-    let clock = Instant::now();
-    let rp = ReferenceParams::new(params.eps).map_err(|e| fail(e.to_string()))?;
-    let reference = scene_reference(&scene, &rays, &rp).map_err(|e| fail(e.to_string()))?;
-    let reference_s = clock.elapsed().as_secs_f64();
-    pb.inc(n_rays);
     let m = mode(a.transparent);
-    let mut rows: Vec<MethodStats> = Vec::new();
-    for &method in &methods {
-        pb.set_message(format!("{}: {method}", scene.name()));
-        rows.push(
-            run_scene_method_with_progress(&scene, &rays, &reference, method, m, &params, &|n| {
-                pb.inc(n as u64);
-            })
-            .map_err(|e| fail(e.to_string()))?,
-        );
-    }
+    // the bar is cleared on success and on error alike
+    let run = || -> Result<(f64, usize, Vec<MethodStats>), Fail> {
+        let clock = Instant::now();
+        let rp = ReferenceParams::new(params.eps).map_err(|e| fail(e.to_string()))?;
+        let reference = scene_reference(&scene, &rays, &rp).map_err(|e| fail(e.to_string()))?;
+        let reference_s = clock.elapsed().as_secs_f64();
+        pb.inc(n_rays);
+        let mut rows: Vec<MethodStats> = Vec::with_capacity(methods.len());
+        for &method in &methods {
+            pb.set_message(format!("{}: {method}", scene.name()));
+            let on_rays = |n: usize| pb.inc(n as u64);
+            rows.push(
+                run_scene_method_with_progress(
+                    &scene, &rays, &reference, method, m, &params, &on_rays,
+                )
+                .map_err(|e| fail(e.to_string()))?,
+            );
+        }
+        Ok((reference_s, reference.hits(), rows))
+    };
+    let result = run();
     pb.finish_and_clear();
+    let (reference_s, reference_hits, rows) = result?;
     let rep = StatsReport {
         schema: report::SCHEMA.into(),
         scene: scene.name().to_string(),
         primitives: scene.primitive_count(),
         rays: rays.len(),
         ray_seed: a.ray_seed,
-        reference_hits: reference.hits(),
+        reference_hits,
         reference_seconds: reference_s,
         eps: params.eps,
         max_steps: params.max_steps,
