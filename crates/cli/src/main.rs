@@ -18,17 +18,19 @@
 use boundtrace_cli::output::{heat_legend, shade, write_atomic, write_dir_atomic};
 use boundtrace_cli::report::{self, StatsReport};
 use boundtrace_cli::scene_format::{CameraSpec, FormatError, SceneFile};
+use boundtrace_ia_core::Real;
 use boundtrace_tracer::camera::Camera;
-use boundtrace_tracer::render::{RenderSettings, render_scene};
+use boundtrace_tracer::render::{Frame, RenderSettings, render_scene_with_progress};
 use boundtrace_tracer::scenes::{DEFAULT_SEED, NAMES, Scene, SceneField};
-use boundtrace_tracer::slice::{SliceSettings, slice_scalis};
+use boundtrace_tracer::slice::{SliceSettings, slice_scalis_with_progress};
 use boundtrace_tracer::stats::{
-    MethodStats, RaySet, ReferenceParams, enlarged, markdown_table, run_scene_method,
+    MethodStats, RaySet, ReferenceParams, enlarged, markdown_table, run_scene_method_with_progress,
     scene_reference,
 };
 use boundtrace_tracer::{Method, Mode, Params};
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
+use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
@@ -67,8 +69,8 @@ struct RenderArgs {
     #[arg(short = 'o', long = "out")]
     output: PathBuf,
     /// Tracing method (`boundtrace methods`); default: `quadratic-taylor`,
-    /// or `interval` on blobtrees and `affine` on HRBFs (which have no
-    /// Taylor bounds).
+    /// or `interval` on blobtrees and homothetic skeletons and `affine` on
+    /// HRBFs (which have no quadratic Taylor bounds).
     #[arg(long, value_parser = parse_method)]
     method: Option<Method>,
     /// Image size.
@@ -271,15 +273,30 @@ fn load(arg: &str, seed: u64) -> Result<(SceneFile, Scene<f64>), Fail> {
     )))
 }
 
-fn spinner(quiet: bool, msg: &str) -> ProgressBar {
-    if quiet {
+/// The one progress bar of the command, on stderr: determinate over `len`
+/// `unit`s (a spinner when `len` is `None`), hidden with `--quiet` or when
+/// stderr is not a terminal (pipes and logs get no control characters;
+/// stdout, the deterministic output, is never touched).
+fn progress(quiet: bool, len: Option<u64>, unit: &str, msg: &str) -> ProgressBar {
+    if quiet || !std::io::stderr().is_terminal() {
         return ProgressBar::hidden();
     }
-    // indicatif draws on stderr only when it is a terminal.
-    let pb = ProgressBar::new_spinner().with_message(msg.to_string());
-    if let Ok(style) = ProgressStyle::with_template("{spinner} {msg} [{elapsed}]") {
+    let (pb, template) = match len {
+        Some(n) => (
+            ProgressBar::new(n),
+            format!(
+                "{{msg}} {{bar:30}} {{human_pos}}/{{human_len}} {unit} [{{elapsed}} < {{eta}}]"
+            ),
+        ),
+        None => (
+            ProgressBar::new_spinner(),
+            "{spinner} {msg} [{elapsed}]".to_string(),
+        ),
+    };
+    if let Ok(style) = ProgressStyle::with_template(&template) {
         pb.set_style(style);
     }
+    pb.set_message(msg.to_string());
     pb.enable_steady_tick(Duration::from_millis(120));
     pb
 }
@@ -330,6 +347,8 @@ fn default_method<T>(field: &SceneField<T>) -> Method {
     match field {
         SceneField::Blobtree(_) => Method::Interval,
         SceneField::Hrbf(_) => Method::Affine,
+        // no quadratic Taylor bound; fastest in `boundtrace stats` (README)
+        SceneField::Homothetic(_) => Method::Interval,
         _ => Method::QuadraticTaylor,
     }
 }
@@ -352,22 +371,47 @@ fn render(a: &RenderArgs, quiet: bool) -> Result<(), Fail> {
             2,
         ));
     }
-    if a.backend == Backend::Gpu {
-        return render_gpu(a, &file, &spec, quiet);
-    }
     let method = a.method.unwrap_or_else(|| default_method(scene.field()));
-    let camera = make_camera(&spec, scene.bounds(), w, h)?;
-    let settings = RenderSettings::new(w, h, method)
-        .map_err(|e| fail(e.to_string()))?
-        .with_mode(mode(a.transparent));
-    let pb = spinner(
-        quiet,
-        &format!("rendering {} ({w}x{h}, {method})", scene.name()),
-    );
+    let mode = mode(a.transparent);
     let clock = Instant::now();
-    let frame = render_scene(&scene, &camera, &settings).map_err(|e| fail(e.to_string()));
-    pb.finish_and_clear();
-    let frame = frame?;
+    match a.backend {
+        Backend::Cpu => {
+            let camera = make_camera(&spec, scene.bounds(), w, h)?;
+            let settings = RenderSettings::new(w, h, method)
+                .map_err(|e| fail(e.to_string()))?
+                .with_mode(mode);
+            let pb = progress(
+                quiet,
+                Some(u64::from(h)),
+                "rows",
+                &format!("rendering {} ({w}x{h}, {method})", scene.name()),
+            );
+            let frame = render_scene_with_progress(&scene, &camera, &settings, &|n| {
+                pb.inc(u64::from(n));
+            })
+            .map_err(|e| fail(e.to_string()));
+            pb.finish_and_clear();
+            finish_render(a, &file, &frame?, clock, "CPU", quiet)
+        }
+        Backend::Gpu => {
+            let frame = render_gpu(&file, &spec, (w, h), method, mode, quiet)?;
+            finish_render(a, &file, &frame, clock, "GPU", quiet)
+        }
+    }
+}
+
+/// Checks a rendered frame, turns it into the requested image and writes it
+/// atomically (shared by the CPU and GPU backends).
+fn finish_render<T: Real>(
+    a: &RenderArgs,
+    file: &SceneFile,
+    frame: &Frame<T>,
+    clock: Instant,
+    backend: &str,
+    quiet: bool,
+) -> Result<(), Fail> {
+    let method = frame.settings().method;
+    let (w, h) = (frame.width(), frame.height());
     let totals = frame.totals();
     if totals.unsupported > 0 {
         return Err(fail(format!(
@@ -379,7 +423,7 @@ fn render(a: &RenderArgs, quiet: bool) -> Result<(), Fail> {
     }
     let image = match a.kind {
         OutputKind::Shaded => {
-            shade(&frame, &file.lights, &file.material_spec()).map_err(|e| fail(e.to_string()))?
+            shade(frame, &file.lights, &file.material_spec()).map_err(|e| fail(e.to_string()))?
         }
         OutputKind::Depth => frame.depth_image(),
         OutputKind::Normal => frame.normal_image(),
@@ -396,7 +440,7 @@ fn render(a: &RenderArgs, quiet: bool) -> Result<(), Fail> {
     }
     if !quiet {
         println!(
-            "wrote {} ({w}x{h}, {}, {}, {:.3} s)",
+            "wrote {} ({w}x{h}, {}, {}, {backend}, {:.3} s)",
             a.output.display(),
             method,
             if a.transparent {
@@ -411,8 +455,17 @@ fn render(a: &RenderArgs, quiet: bool) -> Result<(), Fail> {
     Ok(())
 }
 
+/// The GPU backend's frame: the one place that calls the GPU tracer.
+/// Without the `gpu` feature it is a clear error.
 #[cfg(not(feature = "gpu"))]
-fn render_gpu(_: &RenderArgs, _: &SceneFile, _: &CameraSpec, _: bool) -> Result<(), Fail> {
+fn render_gpu(
+    _file: &SceneFile,
+    _spec: &CameraSpec,
+    _size: (u32, u32),
+    _method: Method,
+    _mode: Mode,
+    _quiet: bool,
+) -> Result<Frame<f32>, Fail> {
     Err(fail(
         "GPU backend: this boundtrace was built without GPU support; rebuild with \
          `cargo run --release -p boundtrace-cli --features gpu -- render …` (and build the \
@@ -420,17 +473,20 @@ fn render_gpu(_: &RenderArgs, _: &SceneFile, _: &CameraSpec, _: bool) -> Result<
     ))
 }
 
+/// The GPU backend's frame: the one place that calls the GPU tracer
+/// (`boundtrace_gpu::GpuTracer`), in `f32`.
 #[cfg(feature = "gpu")]
 fn render_gpu(
-    a: &RenderArgs,
     file: &SceneFile,
     spec: &CameraSpec,
+    (w, h): (u32, u32),
+    method: Method,
+    mode: Mode,
     quiet: bool,
-) -> Result<(), Fail> {
+) -> Result<Frame<f32>, Fail> {
     use boundtrace_gpu::{GpuScene, GpuTracer};
     let gpu_err = |e: boundtrace_gpu::GpuError| fail(format!("GPU backend: {e}"));
     let scene = file.build::<f32>()?;
-    let (w, h) = a.size;
     let b = scene.bounds().map(|c| c.map(f64::from));
     let c = make_camera(spec, b, w, h)?;
     let f = |v: [f64; 3]| v.map(|x| x as f32);
@@ -444,36 +500,20 @@ fn render_gpu(
     };
     let gpu_scene = GpuScene::from_scene(&scene).map_err(gpu_err)?;
     let tracer = GpuTracer::new().map_err(gpu_err)?;
-    let method = a.method.unwrap_or_else(|| default_method(scene.field()));
     let settings = RenderSettings::<f32>::new(w, h, method)
         .map_err(|e| fail(e.to_string()))?
-        .with_mode(mode(a.transparent));
-    let pb = spinner(
+        .with_mode(mode);
+    let pb = progress(
         quiet,
+        None,
+        "",
         &format!("rendering on {}", tracer.adapter_info().name),
     );
     let frame = tracer
         .render(&gpu_scene, &camera, &settings)
         .map_err(gpu_err);
     pb.finish_and_clear();
-    let frame = frame?;
-    let image = match a.kind {
-        OutputKind::Shaded => frame.shaded_image(),
-        OutputKind::Depth => frame.depth_image(),
-        OutputKind::Normal => frame.normal_image(),
-        OutputKind::Steps => heat_legend(&frame.heatmap_image(a.heat_max), a.heat_max)
-            .map_err(|e| fail(e.to_string()))?,
-    };
-    ensure_parent(&a.output)?;
-    write_atomic(&a.output, &image.to_png()).map_err(|e| fail(e.to_string()))?;
-    if !quiet {
-        println!(
-            "wrote {} (GPU: {})",
-            a.output.display(),
-            tracer.adapter_info().name
-        );
-    }
-    Ok(())
+    frame
 }
 
 fn stats(a: &StatsArgs, quiet: bool) -> Result<(), Fail> {
@@ -498,42 +538,49 @@ fn stats(a: &StatsArgs, quiet: bool) -> Result<(), Fail> {
     let params = Params::new();
     let rays = RaySet::new(enlarged(scene.bounds(), 1e-3), a.rays as usize, a.ray_seed)
         .map_err(|e| fail(e.to_string()))?;
-    let pb = if quiet {
-        ProgressBar::hidden()
-    } else {
-        let pb = ProgressBar::new(methods.len() as u64 + 1);
-        if let Ok(s) = ProgressStyle::with_template("{bar:30} {pos}/{len} {msg} [{elapsed}]") {
-            pb.set_style(s);
-        }
-        pb
-    };
-    pb.set_message("dense reference");
-    let clock = Instant::now();
-    let rp = ReferenceParams::new(params.eps).map_err(|e| fail(e.to_string()))?;
-    let reference = scene_reference(&scene, &rays, &rp).map_err(|e| fail(e.to_string()))?;
-    let reference_s = clock.elapsed().as_secs_f64();
-    pb.inc(1);
+    let n_rays = rays.len() as u64;
+    // the dense reference counts as one pass over the rays
+    let pb = progress(
+        quiet,
+        Some((methods.len() as u64 + 1) * n_rays),
+        "rays",
+        &format!("{}: dense reference", scene.name()),
+    );
     let m = mode(a.transparent);
-    let mut rows: Vec<MethodStats> = Vec::new();
-    for &method in &methods {
-        pb.set_message(method.name());
-        rows.push(
-            run_scene_method(&scene, &rays, &reference, method, m, &params)
+    // the bar is cleared on success and on error alike
+    let run = || -> Result<(f64, usize, Vec<MethodStats>), Fail> {
+        let clock = Instant::now();
+        let rp = ReferenceParams::new(params.eps).map_err(|e| fail(e.to_string()))?;
+        let reference = scene_reference(&scene, &rays, &rp).map_err(|e| fail(e.to_string()))?;
+        let reference_s = clock.elapsed().as_secs_f64();
+        pb.inc(n_rays);
+        let mut rows: Vec<MethodStats> = Vec::with_capacity(methods.len());
+        for &method in &methods {
+            pb.set_message(format!("{}: {method}", scene.name()));
+            let on_rays = |n: usize| pb.inc(n as u64);
+            rows.push(
+                run_scene_method_with_progress(
+                    &scene, &rays, &reference, method, m, &params, &on_rays,
+                )
                 .map_err(|e| fail(e.to_string()))?,
-        );
-        pb.inc(1);
-    }
+            );
+        }
+        Ok((reference_s, reference.hits(), rows))
+    };
+    let result = run();
     pb.finish_and_clear();
+    let (reference_s, reference_hits, rows) = result?;
     let rep = StatsReport {
+        schema: report::SCHEMA.into(),
         scene: scene.name().to_string(),
         primitives: scene.primitive_count(),
         rays: rays.len(),
         ray_seed: a.ray_seed,
-        reference_hits: reference.hits(),
+        reference_hits,
         reference_seconds: reference_s,
         eps: params.eps,
         max_steps: params.max_steps,
-        rows: &rows,
+        methods: &rows[..],
     };
     if a.json {
         println!("{}", report::to_json(&rep));
@@ -566,22 +613,38 @@ fn slice(a: &SliceArgs, quiet: bool) -> Result<(), Fail> {
         height: a.size.1,
         slices: a.layers,
     };
-    let pb = spinner(
+    let pb = progress(
         quiet,
+        Some(u64::from(a.size.0) * u64::from(a.size.1)),
+        "columns",
         &format!("slicing {} into {} layers", scene.name(), a.layers),
     );
-    let stack = slice_scalis(w.field(), scene.bounds(), settings, &Params::new())
+    let stack =
+        slice_scalis_with_progress(w.field(), scene.bounds(), settings, &Params::new(), &|n| {
+            pb.inc(n)
+        })
         .map_err(|e| fail(e.to_string()));
     pb.finish_and_clear();
     let stack = stack?;
     let stem = sanitize(scene.name());
     ensure_parent(&a.output)?;
+    let pb = progress(
+        quiet,
+        Some(u64::from(a.layers)),
+        "layers",
+        &format!("writing {}", a.output.display()),
+    );
     let files = write_dir_atomic(&a.output, |tmp| {
-        stack
-            .write_png_stack(tmp, &stem)
-            .map_err(|e| format!("writing slices: {e}"))
-    })
-    .map_err(fail)?;
+        for k in 0..a.layers {
+            stack
+                .write_png_slice(tmp, &stem, k)
+                .map_err(|e| format!("writing slice {k}: {e}"))?;
+            pb.inc(1);
+        }
+        Ok(())
+    });
+    pb.finish_and_clear();
+    let files = files.map_err(fail)?;
     if !quiet {
         println!(
             "wrote {} slices to {} ({}x{})",

@@ -19,6 +19,7 @@
 //! ```
 
 use crate::scene_format::{LightSpec, MaterialSpec};
+use boundtrace_ia_core::Real;
 use boundtrace_tracer::image::{Image, ImageError, heat};
 use boundtrace_tracer::render::Frame;
 use std::io::Write;
@@ -217,15 +218,16 @@ pub fn heat_legend(img: &Image, max: u32) -> Result<Image, ImageError> {
     Ok(out)
 }
 
-/// Shades the first hit of every pixel with directional `lights`
+/// Shades the first hit of every pixel (of a CPU `f64` or GPU `f32`
+/// frame) with directional `lights`
 /// (Lambert, two-sided: `|n · l|`, so both sides of a transparent surface
 /// are lit) over the material's ambient term; a headlight when `lights` is
 /// empty. Pixels without a hit get the background.
 ///
 /// # Errors
 /// [`ImageError`] for a frame too large for an image.
-pub fn shade(
-    frame: &Frame<f64>,
+pub fn shade<T: Real>(
+    frame: &Frame<T>,
     lights: &[LightSpec],
     material: &MaterialSpec,
 ) -> Result<Image, ImageError> {
@@ -234,7 +236,7 @@ pub fn shade(
     let head;
     let lights = if lights.is_empty() {
         head = [LightSpec {
-            direction: cam.forward.map(|x| -x),
+            direction: cam.forward.map(|x| -x.as_f64()),
             color: [1.0; 3],
             intensity: 1.0,
         }];
@@ -254,7 +256,7 @@ pub fn shade(
         .map(|(x, y)| match frame.hits(x, y).first() {
             None => material.background,
             Some(hit) => {
-                let n = hit.normal;
+                let n = hit.normal.map(|x| x.as_f64());
                 let mut rgb = [material.ambient; 3];
                 for (d, c) in &unit {
                     let lambert = (n[0] * d[0] + n[1] * d[1] + n[2] * d[2]).abs();

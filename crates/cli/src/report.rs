@@ -28,10 +28,10 @@
 //! with [`parse`]:
 //!
 //! ```
-//! use boundtrace_cli::report::{StatsReport, parse, to_json};
+//! use boundtrace_cli::report::{SCHEMA, StatsReport, parse, to_json};
 //! let rep = StatsReport {
-//!     scene: "s".into(), primitives: 1, rays: 10, ray_seed: 1, reference_hits: 3,
-//!     reference_seconds: 0.5, eps: 1e-4, max_steps: 100, rows: &[],
+//!     schema: SCHEMA.into(), scene: "s".into(), primitives: 1, rays: 10, ray_seed: 1,
+//!     reference_hits: 3, reference_seconds: 0.5, eps: 1e-4, max_steps: 100, methods: &[][..],
 //! };
 //! let v = parse(&to_json(&rep))?;
 //! assert_eq!(v.rays, 10);
@@ -45,33 +45,14 @@ use serde::{Deserialize, Serialize};
 /// The schema name and version.
 pub const SCHEMA: &str = "boundtrace-stats/1";
 
-/// What `stats` measured.
-#[derive(Clone, Debug)]
-pub struct StatsReport<'a> {
-    /// Scene name.
-    pub scene: String,
-    /// Primitive count.
-    pub primitives: usize,
-    /// Rays traced.
-    pub rays: usize,
-    /// Seed of the rays.
-    pub ray_seed: u64,
-    /// Rays with a reference root.
-    pub reference_hits: usize,
-    /// Time of the dense reference.
-    pub reference_seconds: f64,
-    /// The tracer's ε.
-    pub eps: f64,
-    /// The tracer's step limit.
-    pub max_steps: u32,
-    /// One row per method.
-    pub rows: &'a [MethodStats],
-}
-
-/// The report as serialised (the schema above).
+/// A statistics report: the run's parameters and one entry per method.
+///
+/// `M` is `&[MethodStats]` when the command builds it and
+/// `Vec<MethodJson>` as serialised ([`StatsJson`], the schema above); the
+/// run fields are shared by both.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct StatsJson {
+pub struct StatsReport<M> {
     /// [`SCHEMA`].
     pub schema: String,
     /// Scene name.
@@ -91,8 +72,11 @@ pub struct StatsJson {
     /// The tracer's step limit.
     pub max_steps: u32,
     /// One entry per method.
-    pub methods: Vec<MethodJson>,
+    pub methods: M,
 }
+
+/// The report as serialised (the schema above).
+pub type StatsJson = StatsReport<Vec<MethodJson>>;
 
 /// One method's statistics.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -148,55 +132,64 @@ pub struct StepsJson {
     pub max: u32,
 }
 
-/// The serialisable form.
-pub fn to_value(r: &StatsReport<'_>) -> StatsJson {
-    StatsJson {
-        schema: SCHEMA.into(),
-        scene: r.scene.clone(),
-        primitives: r.primitives,
-        rays: r.rays,
-        ray_seed: r.ray_seed,
-        reference_hits: r.reference_hits,
-        reference_seconds: r.reference_seconds,
-        eps: r.eps,
-        max_steps: r.max_steps,
-        methods: r
-            .rows
-            .iter()
-            .map(|m| MethodJson {
-                method: m.method.name().into(),
-                mode: match m.mode {
-                    Mode::Opaque => "opaque",
-                    Mode::Transparent => "transparent",
-                }
-                .into(),
-                rays: m.rays,
-                unsupported: m.unsupported,
-                finished: m.finished,
-                max_steps: m.max_steps,
-                buffer_full: m.buffer_full,
-                steps: StepsJson {
-                    mean: m.steps_avg,
-                    median: m.steps_median,
-                    max: m.steps_max,
-                },
-                field_evals_mean: m.field_evals_avg,
-                bound_evals_mean: m.bound_evals_avg,
-                ns_per_ray: m.ns_per_ray,
-                agree: m.agree,
-                missed: m.missed,
-                spurious: m.spurious,
-                far: m.far,
-                stepped_past: m.stepped_past,
-                gave_up: m.gave_up,
-                wrong_side: m.wrong_side,
-            })
-            .collect(),
+impl From<&MethodStats> for MethodJson {
+    fn from(m: &MethodStats) -> Self {
+        MethodJson {
+            method: m.method.name().into(),
+            mode: match m.mode {
+                Mode::Opaque => "opaque",
+                Mode::Transparent => "transparent",
+            }
+            .into(),
+            rays: m.rays,
+            unsupported: m.unsupported,
+            finished: m.finished,
+            max_steps: m.max_steps,
+            buffer_full: m.buffer_full,
+            steps: StepsJson {
+                mean: m.steps_avg,
+                median: m.steps_median,
+                max: m.steps_max,
+            },
+            field_evals_mean: m.field_evals_avg,
+            bound_evals_mean: m.bound_evals_avg,
+            ns_per_ray: m.ns_per_ray,
+            agree: m.agree,
+            missed: m.missed,
+            spurious: m.spurious,
+            far: m.far,
+            stepped_past: m.stepped_past,
+            gave_up: m.gave_up,
+            wrong_side: m.wrong_side,
+        }
     }
 }
 
+impl<M> StatsReport<M> {
+    /// The same run with other method entries.
+    pub fn with_methods<N>(&self, methods: N) -> StatsReport<N> {
+        StatsReport {
+            schema: self.schema.clone(),
+            scene: self.scene.clone(),
+            primitives: self.primitives,
+            rays: self.rays,
+            ray_seed: self.ray_seed,
+            reference_hits: self.reference_hits,
+            reference_seconds: self.reference_seconds,
+            eps: self.eps,
+            max_steps: self.max_steps,
+            methods,
+        }
+    }
+}
+
+/// The serialisable form.
+pub fn to_value(r: &StatsReport<&[MethodStats]>) -> StatsJson {
+    r.with_methods(r.methods.iter().map(MethodJson::from).collect())
+}
+
 /// Pretty JSON of the report.
-pub fn to_json(r: &StatsReport<'_>) -> String {
+pub fn to_json(r: &StatsReport<&[MethodStats]>) -> String {
     // plain data: serialisation cannot fail (non-finite floats become null)
     serde_json::to_string_pretty(&to_value(r)).unwrap_or_default()
 }

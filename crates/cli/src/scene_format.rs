@@ -45,6 +45,7 @@
 use boundtrace_fields::blobtree::{FlatBlobtree, Node};
 use boundtrace_fields::density::UnionAll;
 use boundtrace_fields::homothetic::{Segment, SegmentKernel};
+use boundtrace_fields::homothetic_skeleton::HomotheticSkeleton;
 use boundtrace_fields::hrbf::{Hrbf, HrbfCenter};
 use boundtrace_fields::operator::{Operator, OperatorKind};
 use boundtrace_fields::scalis::{ScalisSegment, ScalisSkeleton};
@@ -232,7 +233,8 @@ pub enum KernelSpec {
 pub enum Distance {
     /// SCALIS: scale-invariant integral surfaces (thesis Part III).
     Scalis,
-    /// Homothetic distance (thesis Part II; not renderable yet).
+    /// Homothetic distance: `iso − Σ k(h_S)/k(1)` (thesis Part II eq. 1.13;
+    /// `boundtrace_fields::homothetic_skeleton`).
     Homothetic,
 }
 
@@ -788,34 +790,35 @@ fn cvt<T: Real>(v: [f64; 3]) -> [T; 3] {
     v.map(T::from_f64)
 }
 
+/// Validates the parameters shared by every kernel under `path` (the
+/// kernel's key path): the degree, when the kernel has one, then `σ`.
+fn kernel_params(path: &str, n: Option<u32>, sigma: f64) -> Result<f64, FormatError> {
+    if let Some(n) = n {
+        degree(&format!("{path}.degree"), n)?;
+    }
+    positive(&format!("{path}.sigma"), sigma)
+}
+
 impl KernelSpec {
+    /// `(key, degree, σ)`.
+    fn parts(&self) -> (&'static str, Option<u32>, f64) {
+        match *self {
+            KernelSpec::Compact { degree, sigma } => ("compact", Some(degree), sigma),
+            KernelSpec::Cauchy { degree, sigma } => ("cauchy", Some(degree), sigma),
+            KernelSpec::Gaussian { sigma } => ("gaussian", None, sigma),
+            KernelSpec::Inverse { degree, sigma } => ("inverse", Some(degree), sigma),
+        }
+    }
+
     fn build<T: Real>(&self, path: &str) -> Result<Kernel<T>, FormatError> {
-        let key = match self {
-            KernelSpec::Compact { .. } => "compact",
-            KernelSpec::Cauchy { .. } => "cauchy",
-            KernelSpec::Gaussian { .. } => "gaussian",
-            KernelSpec::Inverse { .. } => "inverse",
-        };
+        let (key, n, sigma) = self.parts();
         let path = &format!("{path}.{key}");
+        let s = T::from_f64(kernel_params(path, n, sigma)?);
         let r = match *self {
-            KernelSpec::Compact { degree: n, sigma } => {
-                degree(&format!("{path}.degree"), n)?;
-                let s = positive(&format!("{path}.sigma"), sigma)?;
-                Kernel::compact(n, T::from_f64(s))
-            }
-            KernelSpec::Cauchy { degree: n, sigma } => {
-                degree(&format!("{path}.degree"), n)?;
-                let s = positive(&format!("{path}.sigma"), sigma)?;
-                Kernel::cauchy(n, T::from_f64(s))
-            }
-            KernelSpec::Gaussian { sigma } => {
-                Kernel::gaussian(T::from_f64(positive(&format!("{path}.sigma"), sigma)?))
-            }
-            KernelSpec::Inverse { degree: n, sigma } => {
-                degree(&format!("{path}.degree"), n)?;
-                let s = positive(&format!("{path}.sigma"), sigma)?;
-                Kernel::inverse(n, T::from_f64(s))
-            }
+            KernelSpec::Compact { degree: n, .. } => Kernel::compact(n, s),
+            KernelSpec::Cauchy { degree: n, .. } => Kernel::cauchy(n, s),
+            KernelSpec::Gaussian { .. } => Kernel::gaussian(s),
+            KernelSpec::Inverse { degree: n, .. } => Kernel::inverse(n, s),
         };
         r.map_err(|e| fe(path, e))
     }
@@ -887,39 +890,52 @@ fn union_box(a: Option<[[f64; 3]; 2]>, b: Option<[[f64; 3]; 2]>) -> Option<[[f64
     ])
 }
 
-impl SkeletonSpec {
-    fn segments<T: Real>(&self, path: &str) -> Result<Vec<ScalisSegment<T>>, FormatError> {
-        if self.distance == Distance::Homothetic {
-            return Err(FormatError::at(
-                &format!("{path}.distance"),
-                "`homothetic` skeletons are part of the format but cannot be rendered yet \
-                 (no homothetic skeleton field in boundtrace-fields); use `scalis`",
-            ));
-        }
-        let iso = positive(&format!("{path}.iso"), self.iso)?;
-        let kernel = match self.kernel {
-            SegmentKernelSpec::Compact { degree: n, sigma } => {
-                let p = format!("{path}.kernel.compact");
-                degree(&format!("{p}.degree"), n)?;
+impl SegmentKernelSpec {
+    /// Validates and builds the kernel (`path` is the `kernel` path).
+    fn build<T: Real>(&self, path: &str) -> Result<SegmentKernel<T>, FormatError> {
+        let (key, n, sigma) = match *self {
+            SegmentKernelSpec::Compact { degree, sigma } => ("compact", degree, sigma),
+            SegmentKernelSpec::Cauchy { degree, sigma } => ("cauchy", degree, sigma),
+        };
+        let p = &format!("{path}.{key}");
+        let s = T::from_f64(kernel_params(p, Some(n), sigma)?);
+        match self {
+            SegmentKernelSpec::Compact { .. } => {
                 if n % 2 != 0 {
                     return Err(FormatError::at(
                         &format!("{p}.degree"),
                         format!("the compact segment kernel needs an even degree, got {n}"),
                     ));
                 }
-                SegmentKernel::compact_polynomial(
-                    n,
-                    T::from_f64(positive(&format!("{p}.sigma"), sigma)?),
-                )
-                .map_err(|e| fe(&p, e))?
+                SegmentKernel::compact_polynomial(n, s)
             }
-            SegmentKernelSpec::Cauchy { degree: n, sigma } => {
-                let p = format!("{path}.kernel.cauchy");
-                degree(&format!("{p}.degree"), n)?;
-                SegmentKernel::cauchy(n, T::from_f64(positive(&format!("{p}.sigma"), sigma)?))
-                    .map_err(|e| fe(&p, e))?
-            }
-        };
+            SegmentKernelSpec::Cauchy { .. } => SegmentKernel::cauchy(n, s),
+        }
+        .map_err(|e| fe(p, e))
+    }
+
+    /// The spec of a kernel.
+    fn of<T: Real>(k: SegmentKernel<T>) -> Self {
+        match k {
+            SegmentKernel::CompactPolynomial { degree, sigma } => SegmentKernelSpec::Compact {
+                degree,
+                sigma: sigma.as_f64(),
+            },
+            SegmentKernel::Cauchy { degree, sigma } => SegmentKernelSpec::Cauchy {
+                degree,
+                sigma: sigma.as_f64(),
+            },
+        }
+    }
+}
+
+/// A built skeleton field, its box of compact supports (if any) and its
+/// segment count.
+type BuiltSkeleton<T> = (SceneField<T>, Option<[[f64; 3]; 2]>, usize);
+
+impl SkeletonSpec {
+    /// The validated vertices and edges as segments.
+    fn segments<T: Real>(&self, path: &str) -> Result<Vec<Segment<T>>, FormatError> {
         for (i, v) in self.vertices.iter().enumerate() {
             let p = format!("{path}.vertices[{i}]");
             finite3(&format!("{p}.position"), v.position)?;
@@ -957,9 +973,58 @@ impl SkeletonSpec {
                 T::from_f64(vb.radius),
             )
             .map_err(|e| fe(&p, e))?;
-            out.push(ScalisSegment::new(seg, kernel, T::from_f64(iso)).map_err(|e| fe(&p, e))?);
+            out.push(seg);
         }
         Ok(out)
+    }
+
+    /// Validates every value and builds the field (`path` is the
+    /// skeleton's path).
+    fn build<T: Real>(&self, path: &str) -> Result<BuiltSkeleton<T>, FormatError> {
+        let iso = T::from_f64(positive(&format!("{path}.iso"), self.iso)?);
+        let kernel = self.kernel.build::<T>(&format!("{path}.kernel"))?;
+        let segs = self.segments::<T>(path)?;
+        let n = segs.len();
+        let lipschitz = match self.lipschitz {
+            Some(l) => Some(T::from_f64(positive(&format!("{path}.lipschitz"), l)?)),
+            None => None,
+        };
+        let to_f64 = |[lo, hi]: [[T; 3]; 2]| [lo.map(|x| x.as_f64()), hi.map(|x| x.as_f64())];
+        let mut bx: Option<[[f64; 3]; 2]> = None;
+        match self.distance {
+            Distance::Scalis => {
+                let mut scalis = Vec::with_capacity(n);
+                for (i, seg) in segs.into_iter().enumerate() {
+                    let s = ScalisSegment::new(seg, kernel, iso)
+                        .map_err(|e| fe(&format!("{path}.edges[{i}]"), e))?;
+                    let sb = s.support_box().map(to_f64);
+                    bx = if i == 0 { sb } else { union_box(bx, sb) };
+                    scalis.push(s);
+                }
+                let sk = ScalisSkeleton::new(scalis).map_err(|e| fe(path, e))?;
+                let l = lipschitz.unwrap_or_else(|| sk.lipschitz().unwrap_or(T::INFINITY));
+                Ok((SceneField::Scalis(WithLipschitz::new(sk, l)), bx, n))
+            }
+            Distance::Homothetic => {
+                if let SegmentKernel::CompactPolynomial { sigma, .. } = kernel {
+                    if !(sigma > T::ONE) {
+                        return Err(FormatError::at(
+                            &format!("{path}.kernel.compact.sigma"),
+                            "a homothetic skeleton's compact kernel needs sigma > 1 \
+                             (the kernel vanishes at the prescribed radius otherwise)",
+                        ));
+                    }
+                }
+                let sk = HomotheticSkeleton::new(segs, kernel, iso)
+                    .map_err(|e| fe(&format!("{path}.kernel"), e))?;
+                for (i, seg) in sk.segments().iter().enumerate() {
+                    let sb = sk.support_box(seg).map(to_f64);
+                    bx = if i == 0 { sb } else { union_box(bx, sb) };
+                }
+                let l = lipschitz.unwrap_or_else(|| sk.lipschitz().unwrap_or(T::INFINITY));
+                Ok((SceneField::Homothetic(WithLipschitz::new(sk, l)), bx, n))
+            }
+        }
     }
 }
 
@@ -1392,6 +1457,78 @@ impl OperatorSpec {
     }
 }
 
+impl NodeSpec {
+    /// `(nodes, stack)`: the node count of the binary tree this node
+    /// becomes (an operator with `k` children folds into `k − 1` binary
+    /// nodes) and the evaluation stack its flat post-order needs, with the
+    /// operand reordering of `FlatBlobtree::from_node_reordered`
+    /// (Sethi–Ullman: the operands of union- and intersection-like
+    /// operators may be swapped, those of differences may not). Counts
+    /// saturate; the recursion depth is bounded by the parser's nesting
+    /// limit.
+    fn encoding_needs(&self) -> (usize, usize) {
+        let (op, swappable) = match self {
+            NodeSpec::Union(o)
+            | NodeSpec::Intersection(o)
+            | NodeSpec::SmoothUnion(o)
+            | NodeSpec::SmoothIntersection(o)
+            | NodeSpec::CompactUnion(o)
+            | NodeSpec::CompactIntersection(o) => (o, true),
+            NodeSpec::Difference(o)
+            | NodeSpec::SmoothDifference(o)
+            | NodeSpec::CompactDifference(o) => (o, false),
+            _ => return (1, 1),
+        };
+        let mut acc: Option<(usize, usize)> = None;
+        for c in &op.children {
+            let (n, s) = c.encoding_needs();
+            acc = Some(match acc {
+                None => (n, s),
+                Some((an, a)) => {
+                    let need = if swappable {
+                        a.max(s).max(a.min(s).saturating_add(1))
+                    } else {
+                        a.max(s.saturating_add(1))
+                    };
+                    (an.saturating_add(n).saturating_add(1), need)
+                }
+            });
+        }
+        acc.unwrap_or((1, 1))
+    }
+}
+
+/// Rejects a blobtree that the flat encoding cannot hold (more than
+/// [`MAX_NODES`](boundtrace_fields::blobtree::MAX_NODES) nodes, or an
+/// evaluation stack deeper than
+/// [`STACK_CAPACITY`](boundtrace_fields::blobtree::STACK_CAPACITY)), before
+/// anything is built.
+fn check_encoding(root: &NodeSpec, path: &str) -> Result<(), FormatError> {
+    use boundtrace_fields::blobtree::{MAX_NODES, STACK_CAPACITY};
+    let (nodes, stack) = root.encoding_needs();
+    if nodes > MAX_NODES {
+        return Err(FormatError::at(
+            path,
+            format!(
+                "tree too large for the encoding: {nodes} nodes after folding operators \
+                 into binary ones (the flat blobtree holds at most {MAX_NODES})"
+            ),
+        ));
+    }
+    if stack > STACK_CAPACITY {
+        return Err(FormatError::at(
+            path,
+            format!(
+                "tree too large for the encoding: evaluating it needs a stack of {stack} \
+                 entries (at most {STACK_CAPACITY}); nest deep subtrees as the first operand \
+                 of difference operators (e.g. subtract one union of the cut-outs instead of \
+                 nesting differences), or balance the tree"
+            ),
+        ));
+    }
+    Ok(())
+}
+
 impl OpName {
     /// The key of the operator in the file (`"compact-union"`, …).
     pub fn key(self) -> &'static str {
@@ -1452,29 +1589,14 @@ impl SceneFile {
                     let u = UnionAll::new(sets).map_err(|e| fe("field.blob-groups.groups", e))?;
                     (SceneField::BlobGroups(u), bx, n)
                 }
-                FieldSpec::Skeleton(s) => {
-                    let segs = s.segments::<T>("field.skeleton")?;
-                    let n = segs.len();
-                    let mut bx: Option<[[f64; 3]; 2]> = None;
-                    for (i, seg) in segs.iter().enumerate() {
-                        let sb = seg
-                            .support_box()
-                            .map(|[lo, hi]| [lo.map(|x| x.as_f64()), hi.map(|x| x.as_f64())]);
-                        bx = if i == 0 { sb } else { union_box(bx, sb) };
-                    }
-                    let sk = ScalisSkeleton::new(segs).map_err(|e| fe("field.skeleton", e))?;
-                    let l = match s.lipschitz {
-                        Some(l) => T::from_f64(positive("field.skeleton.lipschitz", l)?),
-                        None => sk.lipschitz().unwrap_or(T::INFINITY),
-                    };
-                    (SceneField::Scalis(WithLipschitz::new(sk, l)), bx, n)
-                }
+                FieldSpec::Skeleton(s) => s.build::<T>("field.skeleton")?,
                 FieldSpec::Hrbf(h) => {
                     let f = h.build::<T>("field.hrbf")?;
                     let n = f.centers().len();
                     (SceneField::Hrbf(f), None, n)
                 }
                 FieldSpec::Blobtree { root } => {
+                    check_encoding(root, "field.blobtree.root")?;
                     let node = root.build::<f64>("field.blobtree.root", None, 0)?;
                     let flat = FlatBlobtree::from_node_reordered(&node)
                         .map_err(|e| fe("field.blobtree.root", e))?;
@@ -1629,7 +1751,9 @@ impl SceneFile {
                     .collect(),
                 poly: Some(h.poly()),
             }),
-            SceneField::Scalis(w) => FieldSpec::Skeleton(skeleton_spec(w)?),
+            SceneField::Scalis(_) | SceneField::Homothetic(_) => {
+                FieldSpec::Skeleton(skeleton_spec(scene.field())?)
+            }
             SceneField::Blobtree(flat) => {
                 let node: Node<f64> = flat.to_node().map_err(|e| fe("field.root", e))?;
                 FieldSpec::Blobtree {
@@ -1651,14 +1775,34 @@ impl SceneFile {
     }
 }
 
-fn skeleton_spec(
-    w: &WithLipschitz<ScalisSkeleton<f64, Vec<ScalisSegment<f64>>>, f64>,
-) -> Result<SkeletonSpec, FormatError> {
-    let segs = w.field().segments();
-    let first = segs
+fn skeleton_spec(field: &SceneField<f64>) -> Result<SkeletonSpec, FormatError> {
+    // (segment, kernel, iso) of every edge, and the skeleton's shared ones
+    let (distance, segs, lipschitz): (Distance, Vec<_>, f64) = match field {
+        SceneField::Scalis(w) => (
+            Distance::Scalis,
+            w.field()
+                .segments()
+                .iter()
+                .map(|s| (*s.segment(), s.kernel(), s.iso()))
+                .collect(),
+            w.bound(),
+        ),
+        SceneField::Homothetic(w) => {
+            let sk = w.field();
+            (
+                Distance::Homothetic,
+                sk.segments()
+                    .iter()
+                    .map(|s| (*s, sk.kernel(), sk.iso()))
+                    .collect(),
+                w.bound(),
+            )
+        }
+        _ => return Err(FormatError::at("field", "not a skeleton")),
+    };
+    let &(_, kernel, iso) = segs
         .first()
         .ok_or_else(|| FormatError::at("field.edges", "no segments"))?;
-    let (kernel, iso) = (first.kernel(), first.iso());
     let mut vertices: Vec<VertexSpec> = Vec::new();
     let mut index: HashMap<[u64; 4], usize> = HashMap::new();
     let mut vertex = |p: [f64; 3], r: f64| {
@@ -1672,31 +1816,24 @@ fn skeleton_spec(
         })
     };
     let mut edges = Vec::with_capacity(segs.len());
-    for (i, s) in segs.iter().enumerate() {
-        if s.kernel() != kernel || s.iso() != iso {
+    for (i, (g, k, s_iso)) in segs.iter().enumerate() {
+        if *k != kernel || *s_iso != iso {
             return Err(FormatError::at(
                 &format!("field.edges[{i}]"),
                 "segments with different kernels or iso values cannot be written",
             ));
         }
-        let g = s.segment();
         let a = vertex(g.a(), g.ra());
         let b = vertex(g.b(), g.rb());
         edges.push([a, b]);
     }
-    let kernel = match kernel {
-        SegmentKernel::CompactPolynomial { degree, sigma } => {
-            SegmentKernelSpec::Compact { degree, sigma }
-        }
-        SegmentKernel::Cauchy { degree, sigma } => SegmentKernelSpec::Cauchy { degree, sigma },
-    };
     Ok(SkeletonSpec {
-        distance: Distance::Scalis,
-        kernel,
+        distance,
+        kernel: SegmentKernelSpec::of(kernel),
         iso,
         vertices,
         edges,
-        lipschitz: Some(w.bound()),
+        lipschitz: Some(lipschitz),
     })
 }
 
@@ -1888,6 +2025,92 @@ mod tests {
                 .build::<f64>()
                 .is_ok()
         );
+    }
+
+    /// A right comb of `depth` differences of spheres, as JSON.
+    fn difference_comb(depth: usize) -> String {
+        let sphere = r#"{"sphere": {"radius": 0.5}}"#;
+        let mut node = sphere.to_string();
+        for _ in 0..depth {
+            node = format!(r#"{{"difference": {{"children": [{sphere}, {node}]}}}}"#);
+        }
+        format!(
+            r#"{{"version": 1, "bounds": [[-1,-1,-1],[1,1,1]], "field": {{"blobtree": {{"root": {node}}}}}}}"#
+        )
+    }
+
+    /// The pre-check agrees with the flat encoding: node counts equal the
+    /// built tree's, and the stack limit is refused exactly where
+    /// `FlatBlobtree::from_node_reordered` refuses it.
+    #[test]
+    fn encoding_needs_match_the_flat_tree() {
+        use boundtrace_fields::blobtree::STACK_CAPACITY;
+        for depth in [1, 5, STACK_CAPACITY - 1, STACK_CAPACITY, STACK_CAPACITY + 3] {
+            let file = SceneFile::parse(&difference_comb(depth)).unwrap();
+            let FieldSpec::Blobtree { root } = &file.field else {
+                unreachable!()
+            };
+            let (nodes, stack) = root.encoding_needs();
+            assert_eq!((nodes, stack), (2 * depth + 1, depth + 1));
+            let node = root.build::<f64>("r", None, 0).unwrap();
+            let flat = FlatBlobtree::from_node_reordered(&node);
+            assert_eq!(flat.is_ok(), stack <= STACK_CAPACITY, "depth {depth}");
+            if let Ok(flat) = flat {
+                assert_eq!(flat.len(), nodes);
+            }
+            let built = file.build::<f64>();
+            assert_eq!(built.is_ok(), stack <= STACK_CAPACITY);
+            if let Err(e) = built {
+                assert_eq!(e.path, "field.blobtree.root");
+                assert!(e.message.contains("too large for the encoding"), "{e}");
+            }
+        }
+        // n-ary union-like operators fold into balanced-enough trees
+        let text = r#"{"version": 1, "bounds": [[-1,-1,-1],[1,1,1]], "field": {"blobtree":
+            {"root": {"smooth-union": {"beta": 0.1, "children": [
+              {"sphere": {"radius": 0.5}}, {"box": {"half_extents": [0.2, 0.2, 0.2]}},
+              {"union": {"children": [{"sphere": {"radius": 0.1}}, {"sphere": {"radius": 0.2}},
+                                      {"sphere": {"radius": 0.3}}]}}]}}}}}"#;
+        let file = SceneFile::parse(text).unwrap();
+        let FieldSpec::Blobtree { root } = &file.field else {
+            unreachable!()
+        };
+        let flat =
+            FlatBlobtree::from_node_reordered(&root.build::<f64>("r", None, 0).unwrap()).unwrap();
+        assert_eq!(root.encoding_needs().0, flat.len());
+        assert_eq!(flat.len(), 9);
+    }
+
+    #[test]
+    fn homothetic_skeleton_builds_and_round_trips() {
+        let text = r#"{"version": 1, "field": {"skeleton": {"distance": "homothetic",
+            "iso": 1, "kernel": {"compact": {"degree": 4, "sigma": 1.5}},
+            "vertices": [{"position": [0,0,0], "radius": 0.2},
+                         {"position": [1,0,0], "radius": 0.3},
+                         {"position": [1,1,0], "radius": 0.1}],
+            "edges": [[0, 1], [1, 2]]}}}"#;
+        let file = SceneFile::parse(text).unwrap();
+        let scene = file.build::<f64>().unwrap();
+        assert!(matches!(scene.field(), SceneField::Homothetic(_)));
+        assert_eq!(scene.primitive_count(), 2);
+        // computed bounds: the σ-scaled supports, grown by 2 %
+        let [lo, hi] = scene.bounds();
+        assert!(lo[0] < -0.45 && hi[0] > 1.45 && hi[1] > 1.45);
+        assert!(SceneFile::check_bounds(&scene, 9).is_ok());
+        let field = scene.field();
+        assert!(field.eval([0.5, 0.0, 0.0]) < 0.0);
+        // export and rebuild: the same field
+        let again = SceneFile::parse(&SceneFile::from_scene(&scene).unwrap().to_json())
+            .unwrap()
+            .build::<f64>()
+            .unwrap();
+        let p = [0.4, 0.2, 0.05];
+        assert_eq!(field.eval(p), again.field().eval(p));
+        // σ ≤ 1 names the kernel's sigma
+        let e = parse_err(&text.replace("\"sigma\": 1.5", "\"sigma\": 0.9"));
+        assert_eq!(e.path, "field.skeleton.kernel.compact.sigma", "{e}");
+        let e = parse_err(&text.replace("\"degree\": 4", "\"degree\": 3"));
+        assert_eq!(e.path, "field.skeleton.kernel.compact.degree", "{e}");
     }
 
     #[test]

@@ -291,6 +291,30 @@ fn invalid_values_name_the_field() {
     }
     let o = render_bad(&tree(&root), &[]);
     assert_fails(&o, 1, &["field"]);
+    // the homothetic skeleton's compact kernel needs σ > 1
+    let homothetic = skeleton("[[0, 2]]", "0.1")
+        .replace("{\"iso\": 1,", "{\"distance\": \"homothetic\", \"iso\": 1,")
+        .replace("\"sigma\": 2", "\"sigma\": 0.9");
+    let o = render_bad(&homothetic, &[]);
+    assert_fails(&o, 1, &["field.skeleton.kernel.compact.sigma", "sigma > 1"]);
+    // too large for the flat encoding: a right comb of 40 differences needs
+    // an evaluation stack of 41 entries (at most 32)
+    let mut root = r#"{"sphere": {"radius": 0.5}}"#.to_string();
+    for _ in 0..40 {
+        root = format!(
+            r#"{{"difference": {{"children": [{{"sphere": {{"radius": 0.9}}}}, {root}]}}}}"#
+        );
+    }
+    let o = render_bad(&tree(&root), &[]);
+    assert_fails(
+        &o,
+        1,
+        &[
+            "field.blobtree.root",
+            "tree too large for the encoding",
+            "stack of 41",
+        ],
+    );
     // a missing bounds for a field without computed bounds
     let o = render_bad(
         &GOOD.replace(
@@ -331,6 +355,50 @@ fn unsupported_method_writes_nothing() {
     let text = std::fs::read_to_string(scene_path("hrbf.json")).unwrap();
     let o = render_bad(&text, &["--method", "linear-taylor"]);
     assert_fails(&o, 1, &["not supported", "nothing written"]);
+}
+
+/// The shipped homothetic skeleton renders (default method and segment
+/// tracing), its statistics agree with the dense reference for every
+/// supported method, and the unsupported quadratic Taylor bound is a clear
+/// error.
+#[test]
+fn homothetic_skeleton_renders_and_measures() {
+    let scene = scene_path("skeleton-homothetic.json");
+    let d = TempDir::new("homothetic");
+    let out = d.path("h.png");
+    for (extra, method) in [
+        (&[][..], "interval"),
+        (&["--method", "segment"][..], "segment"),
+    ] {
+        let mut args = vec!["render", &scene, "-o", &out, "--size", "24x20"];
+        args.extend_from_slice(extra);
+        let o = run(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        assert!(stdout(&o).contains(method), "{}", stdout(&o));
+        assert!(std::fs::read(&out).unwrap().starts_with(&[0x89, b'P']));
+    }
+    let o = run(&[
+        "stats",
+        &scene,
+        "--methods",
+        "sphere,segment,linear-taylor,quadratic-mixed,interval",
+        "--rays",
+        "60",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let rep = boundtrace_cli::report::parse(&stdout(&o)).expect("schema");
+    assert_eq!(rep.methods.len(), 5);
+    assert!(rep.reference_hits > 0);
+    for m in &rep.methods {
+        assert_eq!(m.finished, 60, "{m:?}");
+        assert_eq!(m.missed + m.stepped_past, 0, "{m:?}");
+    }
+    let text = std::fs::read_to_string(&scene).unwrap();
+    let o = render_bad(&text, &["--method", "quadratic-taylor"]);
+    assert_fails(&o, 1, &["not supported", "nothing written"]);
+    let o = run(&["slice", &scene, "--layers", "2", "-o", &d.path("no")]);
+    assert_fails(&o, 1, &["SCALIS"]);
 }
 
 #[test]

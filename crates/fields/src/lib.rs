@@ -38,6 +38,7 @@
 //! | [`kernel`] | compact polynomial, Cauchy, Gaussian, inverse kernels and the extrema of their derivatives | thesis Part II §1.1; forward-inclusion paper App. A |
 //! | [`blob`] | point blobs with Taylor bounds | forward-inclusion paper App. A |
 //! | [`homothetic`] | segment primitives with linearly varying radius, homothetic distance and its argmin along a ray | thesis eq. 1.11–1.13, Part III §1.3.2 |
+//! | [`homothetic_skeleton`] | sums of homothetic-distance primitives `k ∘ h_S` over a skeleton, with Lipschitz and directional bounds | thesis eq. 1.13, Part III §1.8 |
 //! | [`scalis`] | SCALIS segments in closed form, normalization `g(f) − 1`, per-primitive bounds | thesis eq. 1.14, Part III §1.2, ch. 2 §2.1 |
 //! | [`hrbf`] | Hermite RBF (`φ(x) = x³`) evaluation and fitting | thesis eq. 3.17 |
 //! | [`density`] | n-ary sum, max/min, Ricci blend of density fields | thesis Part II |
@@ -60,6 +61,7 @@ pub mod bounding;
 pub mod density;
 mod error;
 pub mod homothetic;
+pub mod homothetic_skeleton;
 pub mod hrbf;
 pub mod kernel;
 pub mod operator;

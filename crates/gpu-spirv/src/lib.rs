@@ -219,6 +219,9 @@ impl GpuScene {
             }
             SceneField::Hrbf(_) => return unsupported("HRBF has no flat GPU field yet"),
             SceneField::Scalis(_) => return unsupported("SCALIS has no flat GPU field yet"),
+            SceneField::Homothetic(_) => {
+                return unsupported("homothetic skeletons have no flat GPU field yet");
+            }
         }
         Ok(s)
     }

@@ -388,7 +388,7 @@ where
     F: Field<T> + Sync,
 {
     let tracer = field_tracer(field, settings);
-    render_with(field, &tracer, camera, bounds, settings)
+    render_with(field, &tracer, camera, bounds, settings, &|_| {})
 }
 
 /// [`render`] of a standard scene: on the SCALIS scenes, `scalis-quadratic`,
@@ -403,6 +403,24 @@ pub fn render_scene<T>(
     scene: &crate::scenes::Scene<T>,
     camera: &Camera<T>,
     settings: &RenderSettings<T>,
+) -> Result<Frame<T>, RenderError>
+where
+    T: Real + Send + Sync,
+{
+    render_scene_with_progress(scene, camera, settings, &|_| {})
+}
+
+/// [`render_scene`], calling `on_rows(n)` (from any thread) each time `n`
+/// more rows of the image are done, for progress bars; the frame is the
+/// same.
+///
+/// # Errors
+/// As [`render`].
+pub fn render_scene_with_progress<T>(
+    scene: &crate::scenes::Scene<T>,
+    camera: &Camera<T>,
+    settings: &RenderSettings<T>,
+    on_rows: &(dyn Fn(u32) + Sync),
 ) -> Result<Frame<T>, RenderError>
 where
     T: Real + Send + Sync,
@@ -429,9 +447,12 @@ where
                     &mut storage,
                 )
             };
-            render_with(field, &tracer, camera, scene.bounds(), settings)
+            render_with(field, &tracer, camera, scene.bounds(), settings, on_rows)
         }
-        _ => render(field, camera, scene.bounds(), settings),
+        _ => {
+            let tracer = field_tracer(field, settings);
+            render_with(field, &tracer, camera, scene.bounds(), settings, on_rows)
+        }
     }
 }
 
@@ -442,6 +463,7 @@ fn render_with<T, F, R>(
     camera: &Camera<T>,
     bounds: [[T; 3]; 2],
     settings: &RenderSettings<T>,
+    on_rows: &(dyn Fn(u32) + Sync),
 ) -> Result<Frame<T>, RenderError>
 where
     T: Real + Send + Sync,
@@ -456,12 +478,16 @@ where
             .into_par_iter()
             .map_init(
                 || root_buffer(settings),
-                |buf, y| render_row(field, tracer, camera, &bounds, settings, y, buf),
+                |buf, y| {
+                    let row = render_row(field, tracer, camera, &bounds, settings, y, buf);
+                    on_rows(1);
+                    row
+                },
             )
             .collect()
     };
     #[cfg(not(feature = "parallel"))]
-    let rows = serial_rows(field, tracer, camera, &bounds, settings);
+    let rows = serial_rows(field, tracer, camera, &bounds, settings, on_rows);
     Ok(assemble(*camera, *settings, rows))
 }
 
@@ -478,7 +504,7 @@ pub fn render_serial<T: Real, F: Field<T>>(
 ) -> Result<Frame<T>, RenderError> {
     check(&bounds, settings)?;
     let tracer = field_tracer(field, settings);
-    let rows = serial_rows(field, &tracer, camera, &bounds, settings);
+    let rows = serial_rows(field, &tracer, camera, &bounds, settings, &|_| {});
     Ok(assemble(*camera, *settings, rows))
 }
 
@@ -519,10 +545,15 @@ fn serial_rows<T: Real, F: Field<T>, R: Fn(&Ray<T>, [T; 2], &mut [Root<T>]) -> T
     camera: &Camera<T>,
     bounds: &[[T; 3]; 2],
     settings: &RenderSettings<T>,
+    on_rows: &(dyn Fn(u32) + Sync),
 ) -> Vec<Row<T>> {
     let mut buf = root_buffer(settings);
     (0..settings.height)
-        .map(|y| render_row(field, tracer, camera, bounds, settings, y, &mut buf))
+        .map(|y| {
+            let row = render_row(field, tracer, camera, bounds, settings, y, &mut buf);
+            on_rows(1);
+            row
+        })
         .collect()
 }
 

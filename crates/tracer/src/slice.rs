@@ -205,12 +205,32 @@ impl SliceStack {
     pub fn write_png_stack(&self, dir: &std::path::Path, stem: &str) -> std::io::Result<()> {
         std::fs::create_dir_all(dir)?;
         for k in 0..self.settings.slices {
-            let img = self
-                .slice_image(k)
-                .map_err(|e| std::io::Error::other(e.to_string()))?;
-            img.write_png(dir.join(format!("{stem}-{k:05}.png")))?;
+            self.write_png_slice(dir, stem, k)?;
         }
         Ok(())
+    }
+    /// Writes slice `k` as `dir/{stem}-{k:05}.png` (8-bit), the file
+    /// [`write_png_stack`](Self::write_png_stack) writes for it (`dir`
+    /// must exist).
+    ///
+    /// # Errors
+    /// I/O errors, or `k` out of range.
+    pub fn write_png_slice(
+        &self,
+        dir: &std::path::Path,
+        stem: &str,
+        k: u32,
+    ) -> std::io::Result<()> {
+        if k >= self.settings.slices {
+            return Err(std::io::Error::other(format!(
+                "slice {k} out of range ({} slices)",
+                self.settings.slices
+            )));
+        }
+        let img = self
+            .slice_image(k)
+            .map_err(|e| std::io::Error::other(e.to_string()))?;
+        img.write_png(dir.join(format!("{stem}-{k:05}.png")))
     }
 }
 
@@ -266,7 +286,30 @@ pub fn slice_scalis<S: AsRef<[ScalisSegment<f64>]>>(
     settings: SliceSettings,
     params: &Params<f64>,
 ) -> Result<SliceStack, SliceError> {
-    run(skeleton, bounds, settings, params, How::Classify)
+    run(skeleton, bounds, settings, params, How::Classify, &|_| {})
+}
+
+/// [`slice_scalis`], calling `on_columns(n)` each time `n` more of the
+/// `width × height` voxel columns are done, for progress bars; the stack
+/// is the same.
+///
+/// # Errors
+/// As [`slice_scalis`].
+pub fn slice_scalis_with_progress<S: AsRef<[ScalisSegment<f64>]>>(
+    skeleton: &ScalisSkeleton<f64, S>,
+    bounds: [[f64; 3]; 2],
+    settings: SliceSettings,
+    params: &Params<f64>,
+    on_columns: &dyn Fn(u64),
+) -> Result<SliceStack, SliceError> {
+    run(
+        skeleton,
+        bounds,
+        settings,
+        params,
+        How::Classify,
+        on_columns,
+    )
 }
 
 /// Slices `skeleton` by tracing all roots of every column with
@@ -283,7 +326,7 @@ pub fn slice_scalis_traced<S: AsRef<[ScalisSegment<f64>]>>(
     settings: SliceSettings,
     params: &Params<f64>,
 ) -> Result<SliceStack, SliceError> {
-    run(skeleton, bounds, settings, params, How::Traced)
+    run(skeleton, bounds, settings, params, How::Traced, &|_| {})
 }
 
 /// The same stack by evaluating the field at every voxel centre with the
@@ -297,7 +340,7 @@ pub fn sample_scalis<S: AsRef<[ScalisSegment<f64>]>>(
     settings: SliceSettings,
     params: &Params<f64>,
 ) -> Result<SliceStack, SliceError> {
-    run(skeleton, bounds, settings, params, How::Sample)
+    run(skeleton, bounds, settings, params, How::Sample, &|_| {})
 }
 
 /// The voxels of one ray: `buf[k·stride]` is voxel `k` of the column.
@@ -345,6 +388,7 @@ fn run<S: AsRef<[ScalisSegment<f64>]>>(
     settings: SliceSettings,
     params: &Params<f64>,
     how: How,
+    on_columns: &dyn Fn(u64),
 ) -> Result<SliceStack, SliceError> {
     let n = check(&bounds, &settings)?;
     crate::scalis::check_segments(skeleton.segments()).map_err(SliceError::Skeleton)?;
@@ -364,7 +408,9 @@ fn run<S: AsRef<[ScalisSegment<f64>]>>(
             let xs = [lo[0] + f64::from(bx) * dx, lo[0] + f64::from(ex) * dx];
             let ys = [lo[1] + f64::from(by) * dy, lo[1] + f64::from(ey) * dy];
             let segs = bucket_segments(skeleton.segments(), xs, ys);
+            let columns = u64::from(ex - bx) * u64::from(ey - by);
             if segs.is_empty() {
+                on_columns(columns);
                 continue; // every voxel outside (already 0)
             }
             let sk = ScalisSkeleton::new(segs).map_err(|_| SliceError::Grid)?;
@@ -428,6 +474,7 @@ fn run<S: AsRef<[ScalisSegment<f64>]>>(
                         voxels[dst..dst + bw].copy_from_slice(&row[k * bw..(k + 1) * bw]);
                     }
                 }
+                on_columns(bw as u64);
             }
         }
     }

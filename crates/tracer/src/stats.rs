@@ -53,8 +53,7 @@ use std::vec::Vec;
 /// [`MethodStats::failures`].
 pub const MAX_FAILURES: usize = 8;
 
-/// Rays per parallel work item (`parallel` feature).
-#[cfg(feature = "parallel")]
+/// Rays per work item (parallel threads; progress reports).
 const CHUNK: usize = 256;
 
 /// `Sync` with the `parallel` feature (the field and the numbers are shared
@@ -1173,6 +1172,24 @@ where
     T: Real + MaybeSync + Send,
     R: Fn(&SampleRay<T>, &mut [Root<T>]) -> Trace<T> + MaybeSync,
 {
+    run_method_progress(tracer, rays, reference, method, mode, params, &|_| {})
+}
+
+/// [`run_method_with`], calling `on_rays(n)` (from any thread) each time
+/// `n` more rays are done, outside the timed part; the result is the same.
+fn run_method_progress<T, R>(
+    tracer: &R,
+    rays: &RaySet<T>,
+    reference: &Reference<T>,
+    method: Method,
+    mode: Mode,
+    params: &Params<T>,
+    on_rays: &(dyn Fn(usize) + Sync),
+) -> Result<MethodStats, StatsError>
+where
+    T: Real + MaybeSync + Send,
+    R: Fn(&SampleRay<T>, &mut [Root<T>]) -> Trace<T> + MaybeSync,
+{
     params.validate()?;
     if params.eps != reference.params().eps {
         return Err(StatsError::EpsMismatch);
@@ -1202,7 +1219,11 @@ where
             .rays()
             .par_chunks(CHUNK)
             .enumerate()
-            .map(|(c, chunk)| job.run(c * CHUNK, chunk))
+            .map(|(c, chunk)| {
+                let acc = job.run(c * CHUNK, chunk);
+                on_rays(chunk.len());
+                acc
+            })
             .collect();
         let mut acc = Acc::default();
         for p in parts {
@@ -1212,8 +1233,12 @@ where
     };
     #[cfg(not(feature = "parallel"))]
     let acc = {
+        // chunk by chunk, merged in order: the same as one run
         let mut acc = Acc::default();
-        acc.merge(job.run(0, job.rays.rays()));
+        for (c, chunk) in job.rays.rays().chunks(CHUNK).enumerate() {
+            acc.merge(job.run(c * CHUNK, chunk));
+            on_rays(chunk.len());
+        }
         acc
     };
     Ok(summarize(method, mode, rays.len(), acc))
@@ -1292,6 +1317,25 @@ pub fn run_scene_method(
     mode: Mode,
     params: &Params<f64>,
 ) -> Result<MethodStats, StatsError> {
+    run_scene_method_with_progress(scene, rays, reference, method, mode, params, &|_| {})
+}
+
+/// [`run_scene_method`], calling `on_rays(n)` (from any thread, outside
+/// the timed part) each time `n` more rays are done, for progress bars;
+/// the result is the same.
+///
+/// # Errors
+/// As [`run_method`].
+#[inline(never)]
+pub fn run_scene_method_with_progress(
+    scene: &Scene<f64>,
+    rays: &RaySet<f64>,
+    reference: &Reference<f64>,
+    method: Method,
+    mode: Mode,
+    params: &Params<f64>,
+    on_rays: &(dyn Fn(usize) + Sync),
+) -> Result<MethodStats, StatsError> {
     match scene.field() {
         // SCALIS skeletons: `scalis-quadratic`, and `sphere` (per-ray
         // Lipschitz) and `interval` (per-primitive ranges) through the
@@ -1315,9 +1359,14 @@ pub fn run_scene_method(
                     &mut storage,
                 )
             };
-            run_method_with(&tracer, rays, reference, method, mode, params)
+            run_method_progress(&tracer, rays, reference, method, mode, params, on_rays)
         }
-        field => run_method(field, rays, reference, method, mode, params),
+        field => {
+            let tracer = |r: &SampleRay<f64>, buf: &mut [Root<f64>]| {
+                trace(field, &r.ray, r.span, method, mode, params, buf)
+            };
+            run_method_progress(&tracer, rays, reference, method, mode, params, on_rays)
+        }
     }
 }
 

@@ -121,6 +121,8 @@ mod scalis;
 
 use boundtrace_fields::blobtree::FlatBlobtree;
 use boundtrace_fields::density::UnionAll;
+use boundtrace_fields::homothetic::Segment;
+use boundtrace_fields::homothetic_skeleton::HomotheticSkeleton;
 use boundtrace_fields::hrbf::{Hrbf, HrbfCenter};
 use boundtrace_fields::scalis::{ScalisSegment, ScalisSkeleton};
 use boundtrace_fields::{Blobs, FieldError, PointBlob};
@@ -256,6 +258,9 @@ pub enum SceneField<T> {
     Hrbf(Hrbf<T, Vec<HrbfCenter<T>>>),
     /// A SCALIS skeleton with a grid Lipschitz bound.
     Scalis(WithLipschitz<ScalisSkeleton<T, Vec<ScalisSegment<T>>>, T>),
+    /// A skeleton of homothetic-distance primitives (scene files only)
+    /// with its global Lipschitz bound (computed or given by the file).
+    Homothetic(WithLipschitz<HomotheticSkeleton<T, Vec<Segment<T>>>, T>),
     /// A flat blobtree, evaluated in full (`f32` parameters).
     Blobtree(FlatBlobtree),
 }
@@ -268,6 +273,7 @@ macro_rules! delegate {
             SceneField::Molecule($f) => $e,
             SceneField::Hrbf($f) => $e,
             SceneField::Scalis($f) => $e,
+            SceneField::Homothetic($f) => $e,
             SceneField::Blobtree(tree) => {
                 let $f = &tree.as_ref();
                 $e
