@@ -9,7 +9,7 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use spirv_builder::{ModuleResult, SpirvBuilder};
+use spirv_builder::{Capability, ModuleResult, SpirvBuilder};
 
 fn main() -> ExitCode {
     let mut args = std::env::args_os().skip(1);
@@ -19,7 +19,18 @@ fn main() -> ExitCode {
     };
     let out = PathBuf::from(out);
     let shader = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../gpu-shader");
-    let mut builder = SpirvBuilder::new(&shader, "spirv-unknown-vulkan1.1").release(true);
+    // The shared tracer code uses `u8`/`i8` (enum discriminants such as
+    // `core::cmp::Ordering`'s), `i64`/`u64` and `f64` (exact integer →
+    // float conversions) on the per-ray path: the host requests the
+    // matching device features (`boundtrace-gpu`: SHADER_INT64, SHADER_F64).
+    let mut builder = SpirvBuilder::new(&shader, "spirv-unknown-vulkan1.1")
+        .release(true)
+        .capability(Capability::Int8)
+        .capability(Capability::Int64)
+        .capability(Capability::Float64)
+        // spirv-opt fails on the tracer ("ID overflow", the module has too
+        // many ids after rust-gpu's inlining); the driver optimises anyway.
+        .extra_arg("--no-spirv-opt");
     // Extra shader-crate features, comma-separated (e.g. `trace`).
     if let Ok(features) = std::env::var("BOUNDTRACE_SHADER_FEATURES") {
         let list: Vec<String> = features

@@ -4,8 +4,8 @@
 //! pinned rust-gpu nightly; the host (`boundtrace-gpu`) loads the module.
 //!
 //! Entry points: `interval_square` (the toolchain probe: ia-core interval
-//! arithmetic on the GPU, always built) and `trace_pixels` (feature
-//! `trace`: `BOUNDTRACE_SHADER_FEATURES=trace scripts/build-spirv.sh`).
+//! arithmetic on the GPU, always built) and `trace_pixels` (default
+//! feature `trace`).
 #![cfg_attr(target_arch = "spirv", no_std)]
 
 #[cfg(feature = "trace")]
@@ -35,10 +35,11 @@ pub fn interval_square(
 /// One invocation per pixel, 8 × 8 per workgroup: traces pixel
 /// `(id.x, id.y)` and writes its record and hits.
 ///
-/// Behind the `trace` feature: its code generation passes, but rust-gpu
-/// 0.11's link step, which force-inlines every function touching a
-/// storage buffer (here: every function taking the field), did not finish
-/// in 70 minutes on a loaded 2-core machine (BENCHMARKS.md "GPU").
+/// Behind the default `trace` feature. rust-gpu 0.11's linker inlines
+/// every function that may panic, takes a storage-buffer pointer (or a
+/// struct holding one) or is `#[inline]`; the shared code avoids the first
+/// and the last on its leaves (BENCHMARKS.md "GPU"), so the link takes
+/// minutes.
 #[cfg(feature = "trace")]
 #[spirv(compute(threads(8, 8)))]
 pub fn trace_pixels(
