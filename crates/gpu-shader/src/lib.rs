@@ -4,8 +4,8 @@
 //! pinned rust-gpu nightly; the host (`boundtrace-gpu`) loads the module.
 //!
 //! Entry points: `interval_square` (the toolchain probe: ia-core interval
-//! arithmetic on the GPU, always built) and `trace_pixels` (default
-//! feature `trace`).
+//! arithmetic on the GPU, always built) and `trace_pixels` (feature
+//! `trace`: `BOUNDTRACE_SHADER_FEATURES=trace scripts/build-spirv.sh`).
 #![cfg_attr(target_arch = "spirv", no_std)]
 
 #[cfg(feature = "trace")]
@@ -35,11 +35,13 @@ pub fn interval_square(
 /// One invocation per pixel, 8 × 8 per workgroup: traces pixel
 /// `(id.x, id.y)` and writes its record and hits.
 ///
-/// Behind the default `trace` feature. rust-gpu 0.11's linker inlines
-/// every function that may panic, takes a storage-buffer pointer (or a
-/// struct holding one) or is `#[inline]`; the shared code avoids the first
-/// and the last on its leaves (BENCHMARKS.md "GPU"), so the link takes
-/// minutes.
+/// Behind the `trace` feature. rust-gpu 0.11's linker inlines every
+/// function that may panic, takes a storage-buffer pointer (or a struct
+/// holding one) or is `#[inline]`; the shared code avoids the first and the
+/// last on its leaves, so the link takes minutes (the module: ≈ 374 k
+/// instructions). But a driver that inlines every remaining call, as
+/// lavapipe does, faces ≈ 1.8·10¹⁰ instructions and runs out of memory
+/// (BENCHMARKS.md "GPU").
 #[cfg(feature = "trace")]
 #[spirv(compute(threads(8, 8)))]
 pub fn trace_pixels(

@@ -1,7 +1,9 @@
 //! One ray: roots, per-ray statistics and the [`trace`] entry point.
 
+#[cfg(not(target_arch = "spirv"))]
+use crate::bisect;
+use crate::march;
 use crate::method::{Method, Mode, Params};
-use crate::{bisect, march};
 use boundtrace_ia_core::Real;
 use boundtrace_inclusion::{Field, Ray, gradient};
 
