@@ -626,6 +626,47 @@ pub(crate) fn safe_root_pos<T: Real>(q: Side<T>, h: T) -> Option<T> {
 mod tests {
     use super::*;
 
+    /// `dot` takes three named terms (no index loop, for the GPU build);
+    /// the `(0, 0)` padding must be neutral: the same bounds as summing
+    /// only the real terms, and those bounds must contain the exact sum.
+    #[test]
+    fn dot_padding_is_neutral_and_sound() {
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed % 2001) as f64 / 100.0 - 10.0
+        };
+        for _ in 0..200 {
+            let terms = [(next(), next()), (next(), next()), (next(), next())];
+            for n in 1..=3 {
+                let z = (0.0, 0.0);
+                let padded = match n {
+                    1 => [terms[0], z, z],
+                    2 => [terms[0], terms[1], z],
+                    _ => terms,
+                };
+                let moved = match n {
+                    1 => [z, z, terms[0]],
+                    2 => [terms[0], z, terms[1]],
+                    _ => terms,
+                };
+                let (lo, hi) = dot(padded);
+                assert_eq!((lo, hi), dot(moved), "padding position matters, n = {n}");
+                // Exact sum of the products of these small decimals: each
+                // product and the sum are within 1e-9 of the f64 values.
+                let exact: f64 = terms[..n].iter().map(|&(x, y)| x * y).sum();
+                assert!(
+                    lo <= exact + 1e-9 && exact - 1e-9 <= hi,
+                    "{lo} {exact} {hi}"
+                );
+                assert!(lo <= hi);
+            }
+        }
+        assert_eq!(dot([(0.0f64, 0.0), (0.0, 0.0), (0.0, 0.0)]), (0.0, 0.0));
+    }
+
     #[test]
     fn range_includes_vertex() {
         let q = Side::new(1.0f64, -2.0, 1.0); // (τ−1)², min 0 at τ=1
