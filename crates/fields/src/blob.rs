@@ -108,25 +108,25 @@ impl<T: Real> PointBlob<T> {
     }
 
     /// The center.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn center(&self) -> [T; 3] {
         self.center
     }
 
     /// The weight `w`.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn weight(&self) -> T {
         self.weight
     }
 
     /// The kernel.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn kernel(&self) -> Kernel<T> {
         self.kernel
     }
 
     /// The density `w·k(|p − c|)` in any number type.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn density<N: FieldNum<T>>(&self, p: [N; 3]) -> N {
         let c = self.center;
         let d2 = (p[0] - c[0]).sqr() + (p[1] - c[1]).sqr() + (p[2] - c[2]).sqr();
@@ -135,7 +135,7 @@ impl<T: Real> PointBlob<T> {
 
     /// Whether an enclosure of the squared distance proves the point(s)
     /// outside the compact support (so the density is exactly `0`).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn outside_support(&self, d2: Interval<T>) -> bool {
         self.kernel.kind() == KernelKind::Compact
             && !d2.is_empty()
@@ -191,9 +191,17 @@ struct RayData<T> {
 
 /// `[f(a₀), f(a₁), f(a₂)]`: `<[_; 3]>::map`, which rust-gpu 0.11 cannot
 /// compile (it drains the array through pointer offsets).
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 fn map3<A: Copy, B>(a: [A; 3], f: impl Fn(A) -> B) -> [B; 3] {
     [f(a[0]), f(a[1]), f(a[2])]
+}
+
+/// `[f(a₀, b₀), f(a₁, b₁), f(a₂, b₂)]`: constant indices only (a closure
+/// indexing an array with a variable is a bounds check, i.e. a panic path,
+/// which rust-gpu 0.11 handles by inlining every caller; BENCHMARKS.md "GPU").
+#[cfg_attr(not(target_arch = "spirv"), inline)]
+fn zip3<A: Copy, B: Copy, C>(a: [A; 3], b: [B; 3], f: impl Fn(A, B) -> C) -> [C; 3] {
+    [f(a[0], b[0]), f(a[1], b[1]), f(a[2], b[2])]
 }
 
 fn dot3<T: Real>(a: [Interval<T>; 3], b: [Interval<T>; 3]) -> Interval<T> {
@@ -218,7 +226,7 @@ impl<T: Real, S: AsRef<[PointBlob<T>]>> Blobs<T, S> {
     /// [`new`](Self::new) without the check, for the GPU shader (rust-gpu
     /// cannot build a [`FieldError`] there): a non-finite `iso` gives a
     /// non-finite field instead of an error.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn new_unchecked(iso: T, blobs: S) -> Self {
         let end = blobs.as_ref().len();
         Self::window_unchecked(iso, blobs, 0, end)
@@ -228,7 +236,7 @@ impl<T: Real, S: AsRef<[PointBlob<T>]>> Blobs<T, S> {
     /// storage are clipped), without sub-slicing the storage — a SPIR-V
     /// shader cannot sub-slice a storage buffer — and without checking
     /// `iso` (as [`new_unchecked`](Self::new_unchecked)).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn window_unchecked(iso: T, blobs: S, start: usize, end: usize) -> Self {
         Self {
             iso,
@@ -239,13 +247,13 @@ impl<T: Real, S: AsRef<[PointBlob<T>]>> Blobs<T, S> {
     }
 
     /// The iso-value.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn iso(&self) -> T {
         self.iso
     }
 
     /// The blobs.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn blobs(&self) -> &[PointBlob<T>] {
         let all = self.blobs.as_ref();
         let end = self.end.min(all.len());
@@ -263,7 +271,8 @@ impl<T: Real, S: AsRef<[PointBlob<T>]>> Blobs<T, S> {
         let end = self.end.min(all.len());
         let mut i = self.start;
         while i < end {
-            let b = &all[i];
+            let blob = all[i]; // a local copy: no storage-buffer pointer below
+            let b = &blob;
             i += 1;
             let c = b.center;
             let d2 = (p[0] - c[0]).sqr() + (p[1] - c[1]).sqr() + (p[2] - c[2]).sqr();
@@ -309,9 +318,9 @@ impl<T: Real, S: AsRef<[PointBlob<T>]>> Blobs<T, S> {
     /// Enclosures of the per-blob quantities along the ray on `[t0, t1]`.
     fn ray_data(b: &PointBlob<T>, ray: &Ray<T>, t0: T, t1: T) -> RayData<T> {
         let sigma = b.kernel.sigma();
-        let q = map3([0, 1, 2], |k| Interval::point(ray.origin[k]) - b.center[k]);
+        let q = zip3(ray.origin, b.center, |o, c| Interval::point(o) - c);
         let v = map3(ray.dir, Interval::point);
-        let at = |t: T| map3([0, 1, 2], |k| v[k] * t + q[k]);
+        let at = |t: T| zip3(v, q, |vk, qk| vk * t + qk);
         let (r0, r1) = (at(t0), at(t1));
         let d0 = dot3(r0, r0);
         let d1 = dot3(r1, r1);
@@ -364,7 +373,7 @@ impl<T: Real, S: AsRef<[PointBlob<T>]>> Blobs<T, S> {
     fn slope_at(b: &PointBlob<T>, ray: &Ray<T>, r: &RayData<T>, t: Interval<T>) -> Interval<T> {
         let sigma = b.kernel.sigma();
         let v = map3(ray.dir, Interval::point);
-        let x = map3([0, 1, 2], |k| v[k] * t + r.q[k]);
+        let x = zip3(v, r.q, |vk, qk| vk * t + qk);
         let u = dot3(x, x) / sigma / sigma;
         let du = dot3(v, x) * T::TWO / sigma / sigma;
         b.kernel.d_u(u) * du
@@ -462,7 +471,8 @@ impl<T: Real, S: AsRef<[PointBlob<T>]>> Blobs<T, S> {
         let end = self.end.min(all.len());
         let mut i = self.start;
         while i < end {
-            let b = &all[i];
+            let blob = all[i]; // a local copy: no storage-buffer pointer below
+            let b = &blob;
             i += 1;
             let r = Self::ray_data(b, ray, t0, t1);
             if b.kernel.kind() == KernelKind::Compact && r.u_min.lo() >= T::ONE {
@@ -513,7 +523,8 @@ impl<T: Real, S: AsRef<[PointBlob<T>]>> Field<T> for Blobs<T, S> {
         let end = self.end.min(all.len());
         let mut i = self.start;
         while i < end {
-            let b = &all[i];
+            let blob = all[i]; // a local copy: no storage-buffer pointer below
+            let b = &blob;
             i += 1;
             l = l + Interval::point(b.kernel.max_slope()?) * b.weight.abs();
         }

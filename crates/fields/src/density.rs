@@ -48,13 +48,13 @@ use boundtrace_inclusion::{Field, FieldNum, ForwardLinear, ForwardQuadratic, Ray
 use core::marker::PhantomData;
 
 /// `Σ xᵢ` over a fixed array (`0` for `K = 0`).
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub fn sum<T: Real, N: FieldNum<T>, const K: usize>(xs: [N; K]) -> N {
     sum_slice(&xs)
 }
 
 /// `Σ xᵢ` over a slice (`0` for an empty slice).
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub fn sum_slice<T: Real, N: FieldNum<T>>(xs: &[N]) -> N {
     let mut acc = N::constant(T::ZERO);
     for &x in xs {
@@ -65,13 +65,13 @@ pub fn sum_slice<T: Real, N: FieldNum<T>>(xs: &[N]) -> N {
 
 /// `max xᵢ` (sharp union of densities); `0` for an empty array (the
 /// density of nothing).
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub fn max<T: Real, N: FieldNum<T>, const K: usize>(xs: [N; K]) -> N {
     max_slice(&xs)
 }
 
 /// `max xᵢ` over a slice; `0` when empty.
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub fn max_slice<T: Real, N: FieldNum<T>>(xs: &[N]) -> N {
     let mut it = xs.iter();
     let Some(&first) = it.next() else {
@@ -81,13 +81,13 @@ pub fn max_slice<T: Real, N: FieldNum<T>>(xs: &[N]) -> N {
 }
 
 /// `min xᵢ` (sharp intersection of densities); `0` for an empty array.
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub fn min<T: Real, N: FieldNum<T>, const K: usize>(xs: [N; K]) -> N {
     min_slice(&xs)
 }
 
 /// `min xᵢ` over a slice; `0` when empty.
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub fn min_slice<T: Real, N: FieldNum<T>>(xs: &[N]) -> N {
     let mut it = xs.iter();
     let Some(&first) = it.next() else {
@@ -97,7 +97,7 @@ pub fn min_slice<T: Real, N: FieldNum<T>>(xs: &[N]) -> N {
 }
 
 /// `x^n` for `x ≥ 0`: `powi` for a small integer `n`, `powf` otherwise.
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 fn pow_pos<T: Real, N: FieldNum<T>>(x: N, n: T) -> N {
     if n == n.round() && n >= T::ONE && n <= T::from_f64(64.0) {
         let k = n.to_i32().unwrap_or(1);
@@ -114,13 +114,13 @@ fn pow_pos<T: Real, N: FieldNum<T>>(x: N, n: T) -> N {
 /// The root uses the exponent `1/n` rounded to nearest: the function is
 /// exactly `(Σ xᵢⁿ)^{fl(1/n)}`, and bounds are sound for that function.
 /// For integer `n ≤ 64` the powers are `powi` (tighter).
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub fn ricci<T: Real, N: FieldNum<T>, const K: usize>(xs: [N; K], n: T) -> N {
     ricci_slice(&xs, n)
 }
 
 /// [`ricci`] over a slice (`0` when empty).
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub fn ricci_slice<T: Real, N: FieldNum<T>>(xs: &[N], n: T) -> N {
     let zero = N::constant(T::ZERO);
     let mut acc = zero;
@@ -314,7 +314,7 @@ impl<F, S: AsRef<[F]>> UnionAll<F, S> {
     }
 
     /// The children.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn children(&self) -> &[F] {
         self.children.as_ref()
     }

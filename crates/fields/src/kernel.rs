@@ -170,7 +170,7 @@ fn check_degree(n: u32) -> Result<u32, FieldError> {
 
 /// `x^{e/2}` for `x ≥ 0` and an integer `e ≥ 0`: `x^{e/2}` by `powi` for even
 /// `e`, `(√x)^e` for odd `e`.
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 fn half_pow<T: Real, N: FieldNum<T>>(x: N, e: u32) -> N {
     if e == 0 {
         N::constant(T::ONE)
@@ -190,7 +190,7 @@ enum Side {
     Both,
 }
 
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 fn side<T: Real, N: FieldNum<T>>(u: &N) -> Side {
     let e = u.enclosure();
     if e.hi() < T::ONE {
@@ -267,26 +267,26 @@ impl<T: Real> Kernel<T> {
     }
 
     /// The family.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn kind(&self) -> KernelKind {
         self.kind
     }
 
     /// The degree `n` (`0` for the Gaussian).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn degree(&self) -> u32 {
         self.degree
     }
 
     /// The scale `σ` (the support radius of the compact kernel).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn sigma(&self) -> T {
         self.sigma
     }
 
     /// `Some(σ)` for the compact kernel (`k = 0` for `d ≥ σ`), `None` for
     /// the infinite-support kernels.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn support_radius(&self) -> Option<T> {
         match self.kind {
             KernelKind::Compact => Some(self.sigma),
@@ -296,7 +296,7 @@ impl<T: Real> Kernel<T> {
 
     /// `u = D/σ²` from the squared distance `D`, as `D/σ/σ` (sound for the
     /// enclosure types: two divisions by the exact `σ`).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn normalize_sq<N: FieldNum<T>>(&self, d2: N) -> N {
         d2 / self.sigma / self.sigma
     }
@@ -304,7 +304,7 @@ impl<T: Real> Kernel<T> {
     /// The `j`-th derivative (`j ≤ 2`) of `K` with respect to `u`, inside
     /// the compact support (for the compact kernel: the polynomial branch,
     /// continued by the clamp `max(1 − u, 0)` beyond `u = 1`).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn profile_inside<N: FieldNum<T>>(&self, u: N, j: u32) -> N {
         let n = self.degree;
         // Coefficients m, m(m−1), m(m+1) with m = n/2: exact (n ≤ 64).
@@ -360,7 +360,7 @@ impl<T: Real> Kernel<T> {
     /// `K^{(j)}(u)` with the compact support handled: `0` for `u ≥ 1`, the
     /// join of both branches when the enclosure of `u` straddles `1` and
     /// the clamped polynomial is not already `0` there.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn profile<N: FieldNum<T>>(&self, u: N, j: u32) -> N {
         if self.kind == KernelKind::Compact && matches!(side::<T, N>(&u), Side::Outside) {
             // Exactly 0 (also keeps jets of √ at 0 from producing NaN).
@@ -379,7 +379,7 @@ impl<T: Real> Kernel<T> {
 
     /// `K(u)`, the kernel as a function of the normalized squared distance
     /// `u = d²/σ²` (`u ≥ 0`), in any number type.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn eval_u<N: FieldNum<T>>(&self, u: N) -> N {
         self.profile(u, 0)
     }
@@ -388,7 +388,7 @@ impl<T: Real> Kernel<T> {
     ///
     /// For the compact kernel of degree 2 it is `−1` inside the support and
     /// `0` outside (both, joined, on an enclosure that straddles `u = 1`).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn d_u<N: FieldNum<T>>(&self, u: N) -> N {
         self.profile(u, 1)
     }
@@ -401,14 +401,14 @@ impl<T: Real> Kernel<T> {
     /// has a Dirac mass there that this function does not represent (it is
     /// `0` on both sides); [`ray_curvature_range`](Self::ray_curvature_range)
     /// accounts for it.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn d2_u<N: FieldNum<T>>(&self, u: N) -> N {
         self.profile(u, 2)
     }
 
     /// The kernel at the squared distance `D = d²` (not normalized), in any
     /// number type: `K(D/σ²)`.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn eval_sq<N: FieldNum<T>>(&self, d2: N) -> N {
         self.eval_u(self.normalize_sq(d2))
     }

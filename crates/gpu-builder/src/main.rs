@@ -9,7 +9,7 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use spirv_builder::{ModuleResult, SpirvBuilder};
+use spirv_builder::{Capability, ModuleResult, SpirvBuilder};
 
 fn main() -> ExitCode {
     let mut args = std::env::args_os().skip(1);
@@ -27,6 +27,19 @@ fn main() -> ExitCode {
             .filter(|f| !f.is_empty())
             .map(str::to_owned)
             .collect();
+        if list.iter().any(|f| f == "trace") {
+            // The tracer's shared code uses `u8`/`i8` (enum discriminants
+            // such as `core::cmp::Ordering`'s), `i64`/`u64` and `f64` (exact
+            // integer → float conversions) on the per-ray path; the host
+            // requests SHADER_INT64 and SHADER_F64 where the adapter has them.
+            // spirv-opt fails on it ("ID overflow": too many ids after
+            // rust-gpu's inlining); the driver optimises anyway.
+            builder = builder
+                .capability(Capability::Int8)
+                .capability(Capability::Int64)
+                .capability(Capability::Float64)
+                .extra_arg("--no-spirv-opt");
+        }
         builder = builder.shader_crate_features(list);
     }
     if let Some(dir) = target_dir {

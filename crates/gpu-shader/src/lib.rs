@@ -35,10 +35,13 @@ pub fn interval_square(
 /// One invocation per pixel, 8 × 8 per workgroup: traces pixel
 /// `(id.x, id.y)` and writes its record and hits.
 ///
-/// Behind the `trace` feature: its code generation passes, but rust-gpu
-/// 0.11's link step, which force-inlines every function touching a
-/// storage buffer (here: every function taking the field), did not finish
-/// in 70 minutes on a loaded 2-core machine (BENCHMARKS.md "GPU").
+/// Behind the `trace` feature. rust-gpu 0.11's linker inlines every
+/// function that may panic, takes a storage-buffer pointer (or a struct
+/// holding one) or is `#[inline]`; the shared code avoids the first and the
+/// last on its leaves, so the link takes minutes (the module: ≈ 374 k
+/// instructions). But a driver that inlines every remaining call, as
+/// lavapipe does, faces ≈ 1.8·10¹⁰ instructions and runs out of memory
+/// (BENCHMARKS.md "GPU").
 #[cfg(feature = "trace")]
 #[spirv(compute(threads(8, 8)))]
 pub fn trace_pixels(

@@ -351,8 +351,8 @@ impl GpuTracer {
         if let Some(e) = scope.pop().await {
             return Err(GpuError::Shader(format!(
                 "{} (the `{ENTRY}` entry point needs the shader's `trace` feature: \
-                 BOUNDTRACE_SHADER_FEATURES=trace {BUILD_COMMAND}; its rust-gpu link \
-                 step is slow, see BENCHMARKS.md \"GPU\")",
+                 BOUNDTRACE_SHADER_FEATURES=trace {BUILD_COMMAND}; drivers that inline \
+                 every call, like lavapipe, cannot compile it yet, see BENCHMARKS.md \"GPU\")",
                 error_chain(&e)
             )));
         }
@@ -539,10 +539,15 @@ async fn open_device() -> Result<(wgpu::AdapterInfo, wgpu::Device, wgpu::Queue),
         .await
         .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
     let info = adapter.get_info();
+    // The `trace` module declares the Int8, Int64 and Float64 capabilities
+    // (see crates/gpu-builder): request the matching features where the
+    // adapter has them (without them its pipeline fails to build, reported
+    // as a shader error).
+    let wide = wgpu::Features::SHADER_F64 | wgpu::Features::SHADER_INT64;
     let (device, queue) = adapter
         .request_device(&wgpu::DeviceDescriptor {
             label: Some("boundtrace"),
-            required_features: adapter.features() & wgpu::Features::PASSTHROUGH_SHADERS,
+            required_features: adapter.features() & (wgpu::Features::PASSTHROUGH_SHADERS | wide),
             required_limits: adapter.limits(),
             ..Default::default()
         })

@@ -56,7 +56,7 @@ pub struct Affine<T, const N: usize> {
 /// Twice an upper bound of the rounding error of a round-to-nearest result
 /// `c`: the error is at most `ε_mach/2·|c|` (normal `c`) or
 /// `MIN_SUBNORMAL/2` (subnormal `c`), and this returns at least twice that.
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 fn rnd<T: Real>(c: T) -> T {
     c.abs() * T::EPSILON + T::MIN_SUBNORMAL
 }
@@ -75,7 +75,7 @@ struct Errors<T> {
 
 impl<T: Real> Errors<T> {
     /// Starts from a sound (already upward-rounded) error term.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn new(sound: T) -> Self {
         Self {
             sound,
@@ -85,7 +85,7 @@ impl<T: Real> Errors<T> {
 
     /// `fl(a + b)`, recording its rounding error (none when exact: an operand
     /// is 0, or on CPUs when the TwoSum residual is 0).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn sum(&mut self, a: T, b: T) -> T {
         let s = a + b;
         if a == T::ZERO || b == T::ZERO {
@@ -100,7 +100,7 @@ impl<T: Real> Errors<T> {
     }
 
     /// `fl(a · b)`, recording its rounding error (none when exact).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn prod(&mut self, a: T, b: T) -> T {
         let p = a * b;
         if a == T::ZERO || b == T::ZERO || product_is_exact(a, b, p) {
@@ -111,13 +111,13 @@ impl<T: Real> Errors<T> {
     }
 
     /// Adds a sound non-negative error term.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn add(&mut self, e: T) {
         self.sound = add_up(self.sound, e);
     }
 
     /// The total error bound, rounded up.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn total(&self) -> T {
         add_up(self.sound, self.rounding)
     }
@@ -146,7 +146,7 @@ impl<T: Real, const N: usize> Affine<T, N> {
     };
 
     /// The constant `x` (`EMPTY` for NaN or `±∞`, as [`Interval::point`]).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn constant(x: T) -> Self {
         if !x.is_finite() {
             return Self::EMPTY;
@@ -161,7 +161,7 @@ impl<T: Real, const N: usize> Affine<T, N> {
     /// A form covering `iv` with no dependence on the noise symbols:
     /// `mid ± rad` in the error term. Unbounded intervals give `ENTIRE`,
     /// the empty interval `EMPTY`.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn from_interval(iv: Interval<T>) -> Self {
         if iv.is_empty() {
             return Self::EMPTY;
@@ -177,7 +177,7 @@ impl<T: Real, const N: usize> Affine<T, N> {
     ///
     /// If `k ≥ N` there is no such symbol and the interval goes into the error
     /// term instead (as [`from_interval`](Self::from_interval)).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn variable(iv: Interval<T>, k: usize) -> Self {
         let mut x = Self::from_interval(iv);
         if k < N && x.is_bounded() {
@@ -188,7 +188,7 @@ impl<T: Real, const N: usize> Affine<T, N> {
     }
 
     /// Normalises a computed form: any non-finite part makes it `ENTIRE`.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn finish(center: T, coeffs: [T; N], err: T) -> Self {
         let mut finite = center.is_finite() && err.is_finite();
         let mut i = 0;
@@ -208,43 +208,43 @@ impl<T: Real, const N: usize> Affine<T, N> {
     }
 
     /// The central value `x₀`.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn center(&self) -> T {
         self.center
     }
 
     /// The noise-symbol coefficients `xᵢ`.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn coeffs(&self) -> &[T; N] {
         &self.coeffs
     }
 
     /// The accumulated error term `e` (`+∞` for `ENTIRE`, `−∞` for `EMPTY`).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn err(&self) -> T {
         self.err
     }
 
     /// Whether this is the empty form.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn is_empty(&self) -> bool {
         self.err == T::NEG_INFINITY
     }
 
     /// Whether this is the form that stands for any real number.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn is_entire(&self) -> bool {
         self.err == T::INFINITY
     }
 
     /// Whether the form is bounded (neither empty nor entire).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn is_bounded(&self) -> bool {
         self.err.is_finite()
     }
 
     /// Total radius `Σ|xᵢ| + e`, rounded up.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn radius(&self) -> T {
         let mut r = self.err;
         let mut i = 0;
@@ -256,7 +256,7 @@ impl<T: Real, const N: usize> Affine<T, N> {
     }
 
     /// The range `[x₀ − r, x₀ + r]`, `r = Σ|xᵢ| + e`, rounded outward.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn to_interval(&self) -> Interval<T> {
         if self.is_empty() {
             return Interval::EMPTY;
@@ -273,7 +273,7 @@ impl<T: Real, const N: usize> Affine<T, N> {
     ///
     /// For a ray form built with [`variable`](Self::variable), `eps` is the
     /// ray parameter mapped to `[−1, 1]`.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn eval(&self, eps: [T; N]) -> Interval<T> {
         if self.is_empty() {
             return Interval::EMPTY;
@@ -297,7 +297,7 @@ impl<T: Real, const N: usize> Affine<T, N> {
 
     /// Shared empty/entire handling of binary operations; `None` when both
     /// operands are bounded.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn special2(self, rhs: Self) -> Option<Self> {
         if self.is_empty() || rhs.is_empty() {
             Some(Self::EMPTY)
@@ -310,7 +310,7 @@ impl<T: Real, const N: usize> Affine<T, N> {
 
     /// `self · s + t` for scalars: coefficients scaled by `s`, centre shifted
     /// by `t`, error term scaled by `|s|`; every rounding tracked.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn scale_shift(self, s: T, t: T) -> Self {
         if self.is_empty() || !s.is_finite() || !t.is_finite() {
             return Self::EMPTY;
@@ -341,14 +341,14 @@ impl<T: Real, const N: usize> Affine<T, N> {
     }
 
     /// `x²` (as `x · x`, which keeps the dependence: `x₀² + ½Σxᵢ²` centre).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn sqr(self) -> Self {
         self * self
     }
 
     /// Applies the linearisation `f(x) ∈ α·x + g` with `g ⊇ { f(x) − αx }`
     /// over the form's range: `α·x̂ + mid(g) ± rad(g)`.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn linearized(self, alpha: T, g: Interval<T>) -> Self {
         if g.is_empty() {
             return Self::EMPTY;
@@ -377,7 +377,7 @@ impl<T: Real, const N: usize> Affine<T, N> {
     ///
     /// `fi`/`dfi` enclose `f`/`f'` at a point, `tangent_at(α)` gives the
     /// point where `f' = α` (clamped to `[a, b]` here).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn chebyshev(
         self,
         range: Interval<T>,
@@ -428,7 +428,7 @@ impl<T: Real, const N: usize> Affine<T, N> {
 
     /// `e^x` (convex): Chebyshev linearisation over the form's range.
     /// Overflowing ranges give `ENTIRE`.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn exp(self) -> Self {
         if !self.is_bounded() {
             return self;
@@ -445,7 +445,7 @@ impl<T: Real, const N: usize> Affine<T, N> {
 
     /// `√x` (concave) on the domain `x ≥ 0`: Chebyshev linearisation over the
     /// form's range restricted to `[0, ∞)`; `EMPTY` if the range is negative.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn sqrt(self) -> Self {
         if !self.is_bounded() {
             return if self.is_entire() { self } else { Self::EMPTY };
@@ -468,7 +468,7 @@ impl<T: Real, const N: usize> Affine<T, N> {
 
     /// Natural logarithm (concave) on the domain `x > 0`; a range reaching 0
     /// is unbounded below and gives `ENTIRE`, a non-positive one `EMPTY`.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn ln(self) -> Self {
         if !self.is_bounded() {
             return if self.is_entire() { self } else { Self::EMPTY };
@@ -490,7 +490,7 @@ impl<T: Real, const N: usize> Affine<T, N> {
 
     /// `1/x`: convex for `x > 0`, concave for `x < 0`, Chebyshev-linearised;
     /// a range containing 0 gives `ENTIRE` (`EMPTY` if it is exactly `[0, 0]`).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn recip(self) -> Self {
         if !self.is_bounded() {
             return if self.is_entire() { self } else { Self::EMPTY };
@@ -515,7 +515,7 @@ impl<T: Real, const N: usize> Affine<T, N> {
     /// `|x|`: the form itself (or its negation) when its range has one sign;
     /// otherwise the Chebyshev line through `(a, |a|)`, `(b, |b|)`, with
     /// `|x| − αx ∈ [0, max(−a(1+α), b(1−α))]` since `|α| ≤ 1`.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn abs(self) -> Self {
         if !self.is_bounded() {
             return self;
@@ -542,7 +542,7 @@ impl<T: Real, const N: usize> Affine<T, N> {
 
     /// Pointwise minimum: `x` or `y` when `x − y` has one sign, otherwise
     /// `½(x + y − |x − y|)`.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn min(self, rhs: Self) -> Self {
         if let Some(s) = self.special2(rhs) {
             return s;
@@ -560,7 +560,7 @@ impl<T: Real, const N: usize> Affine<T, N> {
 
     /// Pointwise maximum: `x` or `y` when `x − y` has one sign, otherwise
     /// `½(x + y + |x − y|)`.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn max(self, rhs: Self) -> Self {
         if let Some(s) = self.special2(rhs) {
             return s;
@@ -580,7 +580,7 @@ impl<T: Real, const N: usize> Affine<T, N> {
 impl<T: Real, const N: usize> Neg for Affine<T, N> {
     type Output = Self;
     /// `−x̂`: all coefficients negated (exact).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn neg(self) -> Self {
         if !self.is_bounded() {
             return self;
@@ -602,7 +602,7 @@ impl<T: Real, const N: usize> Neg for Affine<T, N> {
 impl<T: Real, const N: usize> Add for Affine<T, N> {
     type Output = Self;
     /// `(x₀ + y₀) + Σ(xᵢ + yᵢ)εᵢ ± (eₓ + e_y)`, plus the rounding errors.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn add(self, rhs: Self) -> Self {
         if let Some(s) = self.special2(rhs) {
             return s;
@@ -622,7 +622,7 @@ impl<T: Real, const N: usize> Add for Affine<T, N> {
 impl<T: Real, const N: usize> Sub for Affine<T, N> {
     type Output = Self;
     /// `x̂ + (−ŷ)`.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn sub(self, rhs: Self) -> Self {
         self + (-rhs)
     }
@@ -637,7 +637,7 @@ impl<T: Real, const N: usize> Mul for Affine<T, N> {
     /// - `e_z = |x₀|e_y + |y₀|eₓ + rₓr_y − ½ Σ|xᵢyᵢ|`, `r = Σ|xᵢ| + e`,
     ///
     /// plus all rounding errors, with `e_z` computed with upward rounding.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn mul(self, rhs: Self) -> Self {
         if let Some(s) = self.special2(rhs) {
             return s;
@@ -674,7 +674,7 @@ impl<T: Real, const N: usize> Mul for Affine<T, N> {
 impl<T: Real, const N: usize> Div for Affine<T, N> {
     type Output = Self;
     /// `x̂ · recip(ŷ)`.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     #[allow(clippy::suspicious_arithmetic_impl)] // x / y = x · (1/y) by design
     fn div(self, rhs: Self) -> Self {
         self * rhs.recip()
@@ -684,7 +684,7 @@ impl<T: Real, const N: usize> Div for Affine<T, N> {
 impl<T: Real, const N: usize> Add<T> for Affine<T, N> {
     type Output = Self;
     /// Shifts the centre (a NaN or infinite scalar gives `EMPTY`).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn add(self, rhs: T) -> Self {
         self.scale_shift(T::ONE, rhs)
     }
@@ -693,7 +693,7 @@ impl<T: Real, const N: usize> Add<T> for Affine<T, N> {
 impl<T: Real, const N: usize> Sub<T> for Affine<T, N> {
     type Output = Self;
     /// Shifts the centre (a NaN or infinite scalar gives `EMPTY`).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn sub(self, rhs: T) -> Self {
         self.scale_shift(T::ONE, -rhs)
     }
@@ -702,7 +702,7 @@ impl<T: Real, const N: usize> Sub<T> for Affine<T, N> {
 impl<T: Real, const N: usize> Mul<T> for Affine<T, N> {
     type Output = Self;
     /// Scales every term (a NaN or infinite scalar gives `EMPTY`).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn mul(self, rhs: T) -> Self {
         self.scale_shift(rhs, T::ZERO)
     }
@@ -711,7 +711,7 @@ impl<T: Real, const N: usize> Mul<T> for Affine<T, N> {
 impl<T: Real, const N: usize> Div<T> for Affine<T, N> {
     type Output = Self;
     /// `x̂ · recip([rhs])`; division by zero gives `EMPTY` (as for intervals).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     #[allow(clippy::suspicious_arithmetic_impl)] // x / s = x · (1/s) by design
     fn div(self, rhs: T) -> Self {
         self * Self::constant(rhs).recip()
@@ -723,7 +723,7 @@ macro_rules! scalar_lhs_ops {
         impl<const N: usize> Add<Affine<$t, N>> for $t {
             type Output = Affine<$t, N>;
             /// `rhs + self`.
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn add(self, rhs: Affine<$t, N>) -> Affine<$t, N> {
                 rhs + self
             }
@@ -731,7 +731,7 @@ macro_rules! scalar_lhs_ops {
         impl<const N: usize> Sub<Affine<$t, N>> for $t {
             type Output = Affine<$t, N>;
             /// `(−rhs) + self`.
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn sub(self, rhs: Affine<$t, N>) -> Affine<$t, N> {
                 -rhs + self
             }
@@ -739,7 +739,7 @@ macro_rules! scalar_lhs_ops {
         impl<const N: usize> Mul<Affine<$t, N>> for $t {
             type Output = Affine<$t, N>;
             /// `rhs · self`.
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn mul(self, rhs: Affine<$t, N>) -> Affine<$t, N> {
                 rhs * self
             }
@@ -747,7 +747,7 @@ macro_rules! scalar_lhs_ops {
         impl<const N: usize> Div<Affine<$t, N>> for $t {
             type Output = Affine<$t, N>;
             /// `recip(rhs) · self`.
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             #[allow(clippy::suspicious_arithmetic_impl)] // s / y = (1/y) · s
             fn div(self, rhs: Affine<$t, N>) -> Affine<$t, N> {
                 rhs.recip() * self

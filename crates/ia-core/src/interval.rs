@@ -83,7 +83,7 @@ impl<T: Real> Interval<T> {
     /// assert!(Interval::new(2.0, 1.0).is_empty());
     /// assert!(Interval::new(f32::NAN, 1.0).is_empty());
     /// ```
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn new(lo: T, hi: T) -> Self {
         // NaN fails both comparisons.
         if lo <= hi && lo < T::INFINITY && hi > T::NEG_INFINITY {
@@ -94,14 +94,14 @@ impl<T: Real> Interval<T> {
     }
 
     /// The point interval `[x, x]`; [`EMPTY`](Self::EMPTY) for NaN or `±∞`.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn point(x: T) -> Self {
         Self::new(x, x)
     }
 
     /// Builds from bounds already known to satisfy the invariant, or fixes
     /// them up (a NaN bound, produced by no operation here, gives `ENTIRE`).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn raw(lo: T, hi: T) -> Self {
         debug_assert!(
             lo <= hi || lo.is_nan() || hi.is_nan(),
@@ -114,49 +114,49 @@ impl<T: Real> Interval<T> {
     }
 
     /// Lower bound (`+∞` for the empty interval).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn lo(self) -> T {
         self.lo
     }
 
     /// Upper bound (`−∞` for the empty interval).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn hi(self) -> T {
         self.hi
     }
 
     /// Whether this is the empty set.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn is_empty(self) -> bool {
         self.lo > self.hi
     }
 
     /// Whether this is `[−∞, +∞]`.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn is_entire(self) -> bool {
         self.lo == T::NEG_INFINITY && self.hi == T::INFINITY
     }
 
     /// Whether both bounds are finite (false for the empty interval).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn is_bounded(self) -> bool {
         self.lo.is_finite() && self.hi.is_finite()
     }
 
     /// Whether the real number `x` lies in the interval (false for NaN, `±∞`).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn contains(self, x: T) -> bool {
         self.lo <= x && x <= self.hi && x.is_finite()
     }
 
     /// Whether `self ⊆ other` (the empty set is a subset of everything).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn subset(self, other: Self) -> bool {
         self.is_empty() || (other.lo <= self.lo && self.hi <= other.hi)
     }
 
     /// The smallest interval containing both (the convex hull of the union).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn hull(self, other: Self) -> Self {
         // With EMPTY = [+∞, −∞] min/max ignore an empty operand.
         Self {
@@ -166,7 +166,7 @@ impl<T: Real> Interval<T> {
     }
 
     /// The intersection; `EMPTY` when the intervals are disjoint.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn intersection(self, other: Self) -> Self {
         let lo = self.lo.max(other.lo);
         let hi = self.hi.min(other.hi);
@@ -178,7 +178,7 @@ impl<T: Real> Interval<T> {
     }
 
     /// Width `hi − lo`, rounded up (`+∞` if unbounded, NaN if empty).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn width(self) -> T {
         if self.is_empty() {
             return T::nan();
@@ -190,7 +190,7 @@ impl<T: Real> Interval<T> {
     ///
     /// IEEE 1788 conventions: `mid(ENTIRE) = 0`, `mid([−∞, b]) = −MAX`,
     /// `mid([a, +∞]) = MAX`, `mid(EMPTY) = NaN`.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn mid(self) -> T {
         let (a, b) = (self.lo, self.hi);
         if self.is_empty() {
@@ -215,7 +215,7 @@ impl<T: Real> Interval<T> {
 
     /// A radius `r` with `[mid − r, mid + r] ⊇ self`, rounded up
     /// (`+∞` if unbounded, NaN if empty).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn rad(self) -> T {
         if self.is_empty() {
             return T::nan();
@@ -225,7 +225,7 @@ impl<T: Real> Interval<T> {
     }
 
     /// Magnitude `max |x|` over the interval (NaN if empty).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn mag(self) -> T {
         if self.is_empty() {
             return T::nan();
@@ -234,7 +234,7 @@ impl<T: Real> Interval<T> {
     }
 
     /// Mignitude `min |x|` over the interval (NaN if empty).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn mig(self) -> T {
         if self.is_empty() {
             return T::nan();
@@ -247,7 +247,7 @@ impl<T: Real> Interval<T> {
     }
 
     /// The part of the interval at or above zero.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn nonneg(self) -> Self {
         self.intersection(Self {
             lo: T::ZERO,
@@ -266,7 +266,7 @@ impl<T: Real> Interval<T> {
     /// | `0 ∉ [a, b]` | `[1/b, 1/a]` |
     ///
     /// See also [`Div`].
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn recip(self) -> Self {
         Self::point(T::ONE) / self
     }
@@ -278,7 +278,7 @@ impl<T: Real> Interval<T> {
     /// let x = Interval::new(-3.0f64, 2.0).sqr();
     /// assert_eq!((x.lo(), x.hi()), (0.0, 9.0));
     /// ```
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn sqr(self) -> Self {
         if self.is_empty() {
             return self;
@@ -301,7 +301,7 @@ impl<T: Real> Interval<T> {
     /// within a factor `(1 + ε_mach)^(|n|−1)` of the tightest one — about
     /// `|n| − 1` float steps, twice that near a power of two (ITF1788: at
     /// most 10 steps for `|n| ≤ 8`).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn powi(self, n: i32) -> Self {
         if self.is_empty() {
             return self;
@@ -324,7 +324,7 @@ impl<T: Real> Interval<T> {
     }
 
     /// `x^m` for `m ≥ 1` by binary powering of the bounds.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn powu(self, m: u32) -> Self {
         if m % 2 == 0 {
             // Even: |x|^m on [mig, mag].
@@ -353,7 +353,7 @@ impl<T: Real> Interval<T> {
     /// that fits an `i32`, the bound is the one of [`powi`](Self::powi) on the
     /// domain; otherwise `libm`'s `pow` (error < 1 ulp) widened by two float
     /// steps per bound.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn pow(self, p: T) -> Self {
         if !p.is_finite() {
             return Self::EMPTY;
@@ -406,7 +406,7 @@ impl<T: Real> Interval<T> {
     /// `√x` on the domain `x ≥ 0` (`EMPTY` if `x < 0` everywhere).
     ///
     /// Correctly rounded `sqrt` stepped one float outward.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn sqrt(self) -> Self {
         let x = self.nonneg();
         if x.is_empty() {
@@ -417,7 +417,7 @@ impl<T: Real> Interval<T> {
 
     /// `e^x`: increasing, range `[0, +∞]`; `exp(−∞) = 0`, `exp(0) = 1`
     /// exactly, other bounds widened by two float steps (libm error < 1 ulp).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn exp(self) -> Self {
         if self.is_empty() {
             return self;
@@ -444,7 +444,7 @@ impl<T: Real> Interval<T> {
     /// Natural logarithm on the domain `x > 0`: `ln([0, b]) = [−∞, ln b]`,
     /// `EMPTY` for `x ≤ 0` everywhere; `ln(1) = 0` exactly, other bounds
     /// widened by two float steps (libm error < 1 ulp).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn ln(self) -> Self {
         let x = self.nonneg();
         if x.is_empty() || x.hi == T::ZERO {
@@ -471,14 +471,14 @@ impl<T: Real> Interval<T> {
     /// rounding and the range includes `±1` whenever a critical point
     /// `π/2 + kπ` may lie inside. Non-point intervals beyond `|x| ≥ 2^(p−3)`
     /// (where floats are too sparse to place them) give `[−1, 1]`.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn sin(self) -> Self {
         self.trig(1)
     }
 
     /// Cosine; see [`sin`](Self::sin) for accuracy and extrema
     /// (`cos(0) = 1` exactly).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn cos(self) -> Self {
         self.trig(0)
     }
@@ -545,7 +545,7 @@ impl<T: Real> Interval<T> {
     }
 
     /// `|x|`: `[mig, mag]` (exact).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn abs(self) -> Self {
         if self.is_empty() {
             return self;
@@ -554,7 +554,7 @@ impl<T: Real> Interval<T> {
     }
 
     /// Pointwise minimum `{ min(x, y) }`: `[min(a, c), min(b, d)]` (exact).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn min(self, other: Self) -> Self {
         if self.is_empty() || other.is_empty() {
             return Self::EMPTY;
@@ -563,7 +563,7 @@ impl<T: Real> Interval<T> {
     }
 
     /// Pointwise maximum `{ max(x, y) }`: `[max(a, c), max(b, d)]` (exact).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn max(self, other: Self) -> Self {
         if self.is_empty() || other.is_empty() {
             return Self::EMPTY;
@@ -575,7 +575,7 @@ impl<T: Real> Interval<T> {
 impl<T: Real> Neg for Interval<T> {
     type Output = Self;
     /// `−x = [−b, −a]` (exact; the empty set stays empty).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn neg(self) -> Self {
         Self {
             lo: -self.hi,
@@ -587,7 +587,7 @@ impl<T: Real> Neg for Interval<T> {
 impl<T: Real> Add for Interval<T> {
     type Output = Self;
     /// `[a + c, b + d]`, each bound rounded outward.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn add(self, rhs: Self) -> Self {
         if self.is_empty() || rhs.is_empty() {
             return Self::EMPTY;
@@ -600,7 +600,7 @@ impl<T: Real> Add for Interval<T> {
 impl<T: Real> Sub for Interval<T> {
     type Output = Self;
     /// `[a − d, b − c]`, each bound rounded outward.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn sub(self, rhs: Self) -> Self {
         if self.is_empty() || rhs.is_empty() {
             return Self::EMPTY;
@@ -627,7 +627,7 @@ enum Class {
 }
 
 impl<T: Real> Interval<T> {
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn class(self) -> Class {
         let (a, b) = (self.lo, self.hi);
         if a > T::ZERO {
@@ -657,7 +657,7 @@ impl<T: Real> Mul for Interval<T> {
     ///
     /// and `Z · y = [0, 0]` for any non-empty `y` (also unbounded). In each
     /// cell, `0 · ∞` cannot arise; products are rounded outward.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn mul(self, rhs: Self) -> Self {
         use Class::*;
         if self.is_empty() || rhs.is_empty() {
@@ -727,7 +727,7 @@ impl<T: Real> Div for Interval<T> {
     ///
     /// `x / [0, 0] = EMPTY`, `[0, 0] / y = [0, 0]` otherwise; an empty operand
     /// gives `EMPTY`. No cell divides `∞/∞` or `0/0`.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn div(self, rhs: Self) -> Self {
         use Class::*;
         if self.is_empty() || rhs.is_empty() {
@@ -774,7 +774,7 @@ macro_rules! scalar_ops {
             type Output = Self;
             /// The interval operation with the point interval `[rhs, rhs]`
             /// (a NaN or infinite scalar is no real number: `EMPTY`).
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn $f(self, rhs: T) -> Self {
                 self.$f(Self::point(rhs))
             }
@@ -788,7 +788,7 @@ macro_rules! scalar_lhs_ops {
         impl Add<Interval<$t>> for $t {
             type Output = Interval<$t>;
             /// `[self, self] + rhs`.
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn add(self, rhs: Interval<$t>) -> Interval<$t> {
                 Interval::point(self) + rhs
             }
@@ -796,7 +796,7 @@ macro_rules! scalar_lhs_ops {
         impl Sub<Interval<$t>> for $t {
             type Output = Interval<$t>;
             /// `[self, self] − rhs`.
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn sub(self, rhs: Interval<$t>) -> Interval<$t> {
                 Interval::point(self) - rhs
             }
@@ -804,7 +804,7 @@ macro_rules! scalar_lhs_ops {
         impl Mul<Interval<$t>> for $t {
             type Output = Interval<$t>;
             /// `[self, self] · rhs`.
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn mul(self, rhs: Interval<$t>) -> Interval<$t> {
                 Interval::point(self) * rhs
             }
@@ -812,7 +812,7 @@ macro_rules! scalar_lhs_ops {
         impl Div<Interval<$t>> for $t {
             type Output = Interval<$t>;
             /// `[self, self] / rhs`.
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn div(self, rhs: Interval<$t>) -> Interval<$t> {
                 Interval::point(self) / rhs
             }

@@ -61,27 +61,27 @@ macro_rules! impl_math {
     ($t:ty, $exp:ident, $ln:ident, $sin:ident, $cos:ident, $pow:ident, $sqrt:ident) => {
         #[cfg(feature = "libm")]
         impl Math for $t {
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn m_exp(self) -> Self {
                 libm::$exp(self)
             }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn m_ln(self) -> Self {
                 libm::$ln(self)
             }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn m_sin(self) -> Self {
                 libm::$sin(self)
             }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn m_cos(self) -> Self {
                 libm::$cos(self)
             }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn m_pow(self, p: Self) -> Self {
                 libm::$pow(self, p)
             }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn m_sqrt(self) -> Self {
                 libm::$sqrt(self)
             }
@@ -89,27 +89,27 @@ macro_rules! impl_math {
 
         #[cfg(all(feature = "std", not(feature = "libm")))]
         impl Math for $t {
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn m_exp(self) -> Self {
                 <$t>::exp(self)
             }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn m_ln(self) -> Self {
                 <$t>::ln(self)
             }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn m_sin(self) -> Self {
                 <$t>::sin(self)
             }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn m_cos(self) -> Self {
                 <$t>::cos(self)
             }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn m_pow(self, p: Self) -> Self {
                 <$t>::powf(self, p)
             }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn m_sqrt(self) -> Self {
                 <$t>::sqrt(self)
             }

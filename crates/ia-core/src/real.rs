@@ -42,13 +42,13 @@ pub trait Real: num_traits::Float + Math + 'static {
     fn next_up(self) -> Self;
 
     /// The greatest float less than `self` (`-(-self).next_up()`).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn next_down(self) -> Self {
         -(-self).next_up()
     }
 
     /// `self` stepped `n` floats up (saturating at `+∞`).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn next_up_n(self, n: u32) -> Self {
         let mut x = self;
         let mut i = 0;
@@ -60,7 +60,7 @@ pub trait Real: num_traits::Float + Math + 'static {
     }
 
     /// `self` stepped `n` floats down (saturating at `−∞`).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn next_down_n(self, n: u32) -> Self {
         -(-self).next_up_n(n)
     }
@@ -94,7 +94,7 @@ macro_rules! impl_real {
             const FRAC_2_PI: Self = core::$t::consts::FRAC_2_PI;
             const MANTISSA_DIGITS: u32 = $t::MANTISSA_DIGITS;
 
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn next_up(self) -> Self {
                 // NaN and +∞ are fixed points.
                 if self.is_nan() || self == $t::INFINITY {
@@ -114,7 +114,7 @@ macro_rules! impl_real {
                 }
             }
 
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn significant_bits(self) -> u32 {
                 const FRAC: u32 = $t::MANTISSA_DIGITS - 1;
                 let bits = self.to_bits();
@@ -133,12 +133,12 @@ macro_rules! impl_real {
                 }
             }
 
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn from_f64(x: f64) -> Self {
                 x as $t
             }
 
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn as_f64(self) -> f64 {
                 self as f64
             }

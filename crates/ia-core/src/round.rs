@@ -21,7 +21,7 @@ use crate::math::{DIV_ULPS, SQRT_ULPS};
 /// Not used on SPIR-V, where a driver might reassociate the expression; there
 /// sums are always stepped.
 #[cfg(not(target_arch = "spirv"))]
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub(crate) fn sum_residual<T: Real>(a: T, b: T, s: T) -> T {
     let bb = s - a;
     (a - (s - bb)) + (b - bb)
@@ -30,7 +30,7 @@ pub(crate) fn sum_residual<T: Real>(a: T, b: T, s: T) -> T {
 /// A lower bound of `a + b`: the directed-rounding result on CPUs (TwoSum
 /// tells whether round-to-nearest rounded up), one step below the
 /// round-to-nearest sum on SPIR-V.
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub fn add_down<T: Real>(a: T, b: T) -> T {
     if a == T::ZERO {
         return b;
@@ -60,19 +60,19 @@ pub fn add_down<T: Real>(a: T, b: T) -> T {
 }
 
 /// An upper bound of `a + b` (see [`add_down`]).
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub fn add_up<T: Real>(a: T, b: T) -> T {
     -add_down(-a, -b)
 }
 
 /// A lower bound of `a − b`.
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub fn sub_down<T: Real>(a: T, b: T) -> T {
     add_down(a, -b)
 }
 
 /// An upper bound of `a − b`.
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub fn sub_up<T: Real>(a: T, b: T) -> T {
     add_up(a, -b)
 }
@@ -80,7 +80,7 @@ pub fn sub_up<T: Real>(a: T, b: T) -> T {
 /// Whether `p = fl(a · b)` is exact, by a cheap sufficient test: the
 /// operands' significands fit in one (integer bit counts, no FMA needed) and
 /// `p` is normal, or an operand is infinite.
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub(crate) fn product_is_exact<T: Real>(a: T, b: T, p: T) -> bool {
     if a.is_infinite() || b.is_infinite() {
         return true;
@@ -91,7 +91,7 @@ pub(crate) fn product_is_exact<T: Real>(a: T, b: T, p: T) -> bool {
 }
 
 /// A lower bound of `a · b` (`0 · x = 0`, also for infinite `x`).
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub fn mul_down<T: Real>(a: T, b: T) -> T {
     if a == T::ZERO || b == T::ZERO {
         return T::ZERO;
@@ -105,13 +105,13 @@ pub fn mul_down<T: Real>(a: T, b: T) -> T {
 }
 
 /// An upper bound of `a · b` (`0 · x = 0`, also for infinite `x`).
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub fn mul_up<T: Real>(a: T, b: T) -> T {
     -mul_down(-a, b)
 }
 
 /// A lower bound of `a / b` for `b ≠ 0` (`0 / x` and `x / ±∞` are exact zeros).
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub fn div_down<T: Real>(a: T, b: T) -> T {
     let q = a / b;
     if q == T::ZERO && (a == T::ZERO || b.is_infinite()) {
@@ -121,7 +121,7 @@ pub fn div_down<T: Real>(a: T, b: T) -> T {
 }
 
 /// An upper bound of `a / b` for `b ≠ 0` (`0 / x` and `x / ±∞` are exact zeros).
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub fn div_up<T: Real>(a: T, b: T) -> T {
     let q = a / b;
     if q == T::ZERO && (a == T::ZERO || b.is_infinite()) {
@@ -131,7 +131,7 @@ pub fn div_up<T: Real>(a: T, b: T) -> T {
 }
 
 /// A lower bound of `√a` for `a ≥ 0`, never negative.
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub fn sqrt_down<T: Real>(a: T) -> T {
     let r = a.m_sqrt();
     if a == T::ZERO || r.is_infinite() {
@@ -141,7 +141,7 @@ pub fn sqrt_down<T: Real>(a: T) -> T {
 }
 
 /// An upper bound of `√a` for `a ≥ 0`.
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub fn sqrt_up<T: Real>(a: T) -> T {
     let r = a.m_sqrt();
     if a == T::ZERO || r.is_infinite() {
@@ -154,18 +154,18 @@ pub fn sqrt_up<T: Real>(a: T) -> T {
 ///
 /// Each of the at most 62 products is stepped once; squarings double the
 /// relative error, so the bound is within a factor `(1 + ε_mach)^(n−1)`.
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub fn powu_down<T: Real>(x: T, n: u32) -> T {
     powu::<T, false>(x, n)
 }
 
 /// `x^n` for `x ≥ 0`, rounded up: binary powering with [`mul_up`].
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub fn powu_up<T: Real>(x: T, n: u32) -> T {
     powu::<T, true>(x, n)
 }
 
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 fn powu<T: Real, const UP: bool>(x: T, mut n: u32) -> T {
     // A const generic instead of a function pointer: SPIR-V has no indirect calls.
     let mul = |a, b| if UP { mul_up(a, b) } else { mul_down(a, b) };

@@ -52,7 +52,7 @@ pub enum Composition {
 impl Composition {
     /// The variant of a `#[repr(u32)]` code (an unknown code reads as the
     /// default).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub(crate) fn from_code(code: u32) -> Self {
         match code {
             1 => Self::RelaxStart,
@@ -64,7 +64,7 @@ impl Composition {
     /// Combines the modes of two operands: the non-default one wins (so a
     /// constant, built with the default, never overrides a ray parameter
     /// built with another mode).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub(crate) fn join(self, other: Self) -> Self {
         if self == Self::ValidityInterval {
             other
@@ -92,7 +92,7 @@ pub(crate) enum Unary<T> {
 
 impl<T: Real> Unary<T> {
     /// A sound enclosure of `φ(x)` (IEEE 1788 domain semantics).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn eval(self, x: Interval<T>) -> Interval<T> {
         match self {
             Self::Exp => x.exp(),
@@ -107,7 +107,7 @@ impl<T: Real> Unary<T> {
 
     /// `φ` at a point, clamping the argument into the closed domain for the
     /// `x ≥ 0` functions (their bounds use `φ(max(x, 0))`).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn at(self, x: T) -> Interval<T> {
         let x = match self {
             Self::Sqrt => x.max(T::ZERO),
@@ -118,7 +118,7 @@ impl<T: Real> Unary<T> {
     }
 
     /// A sound enclosure of `φ'(x)` at a point of the open domain.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn deriv(self, x: T) -> Interval<T> {
         let xi = Interval::point(x);
         match self {
@@ -143,7 +143,7 @@ pub(crate) struct Line<T> {
 }
 
 /// Composes `line ∘ q` into a lower (`upper = false`) or upper side.
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub(crate) fn compose_line<T: Real>(line: Line<T>, q: Side<T>, upper: bool) -> Side<T> {
     if upper {
         Side::new(
@@ -161,7 +161,7 @@ pub(crate) fn compose_line<T: Real>(line: Line<T>, q: Side<T>, upper: bool) -> S
 }
 
 /// The unbounded side in the given direction, keeping a start value.
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub(crate) fn unbounded<T: Real>(start: T, upper: bool) -> Side<T> {
     if upper {
         Side::new(start, T::INFINITY, T::INFINITY)

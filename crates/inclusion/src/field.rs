@@ -18,13 +18,13 @@ pub struct Ray<T> {
 
 impl<T: Real> Ray<T> {
     /// A ray from origin and direction.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn new(origin: [T; 3], dir: [T; 3]) -> Self {
         Self { origin, dir }
     }
 
     /// `|d|`, rounded up.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn speed(&self) -> T {
         let [x, y, z] = self.dir;
         (Interval::point(x).sqr() + Interval::point(y).sqr() + Interval::point(z).sqr())
@@ -35,7 +35,7 @@ impl<T: Real> Ray<T> {
     /// The point `o + t·d` with `t = N::ray_param(t0, t1)`, computed in the
     /// number type `N` (an enclosure of the segment for intervals, the
     /// identity bound for forward types, a jet in `t` for [`Jet`]).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn at<N: FieldNum<T>>(&self, t0: T, t1: T) -> [N; 3] {
         let t = N::ray_param(t0, t1);
         [
@@ -109,13 +109,13 @@ pub enum BoundKind {
 }
 
 /// `f(o + t·d)` at a point `t`, in plain floats.
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub fn value_at<T: Real + FieldNum<T>, F: Field<T>>(field: &F, ray: &Ray<T>, t: T) -> T {
     field.eval(ray.at::<T>(t, t))
 }
 
 /// `(f, f', f'')` along the ray at `t`.
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub fn jet_at<T: Real, F: Field<T>>(field: &F, ray: &Ray<T>, t: T) -> Jet<T> {
     field.eval(ray.at::<Jet<T>>(t, t))
 }

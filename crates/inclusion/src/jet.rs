@@ -34,32 +34,32 @@ pub struct Jet<T> {
 
 impl<T: Real> Jet<T> {
     /// A jet from its parts.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn new(v: T, d1: T, d2: T) -> Self {
         Self { v, d1, d2 }
     }
 
     /// The constant `c` (zero derivatives).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn constant(c: T) -> Self {
         Self::new(c, T::ZERO, T::ZERO)
     }
 
     /// The independent variable at `x` (`f' = 1`).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn variable(x: T) -> Self {
         Self::new(x, T::ONE, T::ZERO)
     }
 
     /// Applies a scalar function with value `g`, derivatives `g1`, `g2` at
     /// `self.v` (chain rule to second order).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn chain(self, g: T, g1: T, g2: T) -> Self {
         Self::new(g, g1 * self.d1, g2 * self.d1 * self.d1 + g1 * self.d2)
     }
 
     /// `x²`.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn sqr(self) -> Self {
         self * self
     }
@@ -156,7 +156,7 @@ impl<T: Real> Jet<T> {
 impl<T: Real> Neg for Jet<T> {
     type Output = Self;
     /// Negates every part.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn neg(self) -> Self {
         Self::new(-self.v, -self.d1, -self.d2)
     }
@@ -165,7 +165,7 @@ impl<T: Real> Neg for Jet<T> {
 impl<T: Real> Add for Jet<T> {
     type Output = Self;
     /// Part-wise sum.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn add(self, r: Self) -> Self {
         Self::new(self.v + r.v, self.d1 + r.d1, self.d2 + r.d2)
     }
@@ -174,7 +174,7 @@ impl<T: Real> Add for Jet<T> {
 impl<T: Real> Sub for Jet<T> {
     type Output = Self;
     /// Part-wise difference.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn sub(self, r: Self) -> Self {
         Self::new(self.v - r.v, self.d1 - r.d1, self.d2 - r.d2)
     }
@@ -183,7 +183,7 @@ impl<T: Real> Sub for Jet<T> {
 impl<T: Real> Mul for Jet<T> {
     type Output = Self;
     /// Leibniz rule: `(fg)'' = f''g + 2f'g' + fg''`.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn mul(self, r: Self) -> Self {
         Self::new(
             self.v * r.v,
@@ -197,7 +197,7 @@ impl<T: Real> Div for Jet<T> {
     type Output = Self;
     /// Quotient rule: `q = f/g`, `q' = (f' − q g')/g`,
     /// `q'' = (f'' − 2q'g' − q g'')/g` (the value is the plain quotient).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn div(self, r: Self) -> Self {
         let q = self.v / r.v;
         let q1 = (self.d1 - q * r.d1) / r.v;
@@ -209,7 +209,7 @@ impl<T: Real> Div for Jet<T> {
 impl<T: Real> Add<T> for Jet<T> {
     type Output = Self;
     /// Adds to the value.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn add(self, c: T) -> Self {
         Self::new(self.v + c, self.d1, self.d2)
     }
@@ -218,7 +218,7 @@ impl<T: Real> Add<T> for Jet<T> {
 impl<T: Real> Sub<T> for Jet<T> {
     type Output = Self;
     /// Subtracts from the value.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn sub(self, c: T) -> Self {
         Self::new(self.v - c, self.d1, self.d2)
     }
@@ -227,7 +227,7 @@ impl<T: Real> Sub<T> for Jet<T> {
 impl<T: Real> Mul<T> for Jet<T> {
     type Output = Self;
     /// Scales every part.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn mul(self, c: T) -> Self {
         Self::new(self.v * c, self.d1 * c, self.d2 * c)
     }
@@ -236,7 +236,7 @@ impl<T: Real> Mul<T> for Jet<T> {
 impl<T: Real> Div<T> for Jet<T> {
     type Output = Self;
     /// Divides every part.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn div(self, c: T) -> Self {
         Self::new(self.v / c, self.d1 / c, self.d2 / c)
     }

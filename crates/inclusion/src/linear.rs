@@ -118,37 +118,37 @@ impl<T: Real> ForwardLinear<T> {
     }
 
     /// Whether the bound is defined (its start enclosure is non-empty).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn is_valid(&self) -> bool {
         !self.start.is_empty()
     }
 
     /// The enclosure `[s₋, s₊]` of `f(t₀)`.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn start(&self) -> Interval<T> {
         self.start
     }
 
     /// The slopes `[m₋, m₊]`.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn slopes(&self) -> [T; 2] {
         [self.lo, self.hi]
     }
 
     /// The validity length `h`: the bounds hold for `τ = t − t₀ ∈ [0, h]`.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn validity(&self) -> T {
         self.h
     }
 
     /// The validity end `t₁' = t₀ + h`, rounded down.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn validity_end(&self, t0: T) -> T {
         boundtrace_ia_core::round::add_down(t0, self.h)
     }
 
     /// A sound enclosure `[f₋(τ), f₊(τ)]` at `τ = t − t₀` (rounded outward).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn bounds_at(&self, tau: T) -> Interval<T> {
         self.to_quadratic().bounds_at(tau)
     }
@@ -166,7 +166,7 @@ impl<T: Real> ForwardLinear<T> {
     }
 
     /// The safe marching step: [`first_root`](Self::first_root) or `h`.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn safe_step(&self) -> T {
         self.first_root().unwrap_or(self.h)
     }
@@ -177,7 +177,7 @@ impl<T: Real> ForwardLinear<T> {
         Self::from_quadratic(self.to_quadratic().tighter(other.to_quadratic()))
     }
 
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn lift2(
         self,
         other: Self,
@@ -269,7 +269,7 @@ impl<T: Real> ForwardLinear<T> {
 impl<T: Real> Neg for ForwardLinear<T> {
     type Output = Self;
     /// Swaps and negates the lines (exact).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn neg(self) -> Self {
         if !self.is_valid() {
             return self;
@@ -281,7 +281,7 @@ impl<T: Real> Neg for ForwardLinear<T> {
 impl<T: Real> Add for ForwardLinear<T> {
     type Output = Self;
     /// Paper eq. 16, rounded outward.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn add(self, rhs: Self) -> Self {
         if !self.is_valid() || !rhs.is_valid() {
             return Self::INVALID;
@@ -298,7 +298,7 @@ impl<T: Real> Add for ForwardLinear<T> {
 impl<T: Real> Sub for ForwardLinear<T> {
     type Output = Self;
     /// `self + (−rhs)`.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn sub(self, rhs: Self) -> Self {
         self + (-rhs)
     }
@@ -308,7 +308,7 @@ impl<T: Real> Mul for ForwardLinear<T> {
     type Output = Self;
     /// The four corner products (quadratics sharing `t₀`), each bounded by
     /// its tangent/chord; extreme slopes (paper §5.2 "Multiplication").
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn mul(self, rhs: Self) -> Self {
         if !self.is_valid() || !rhs.is_valid() {
             return Self::INVALID;
@@ -325,7 +325,7 @@ impl<T: Real> Mul for ForwardLinear<T> {
                 // reverse when c2 < 0): slopes c1 + min/max(0, c2·h).
                 s_lo = min_lo(s_lo, mul_lo(f0, g0));
                 s_hi = max_hi(s_hi, mul_hi(f0, g0));
-                let (c1_lo, c1_hi) = dot([(f0, g1), (f1, g0)]);
+                let (c1_lo, c1_hi) = dot([(f0, g1), (f1, g0), (T::ZERO, T::ZERO)]);
                 let (c2_lo, c2_hi) = (mul_lo(f1, g1), mul_hi(f1, g1));
                 let dl = if c2_lo < T::ZERO {
                     mul_lo(c2_lo, h)
@@ -348,7 +348,7 @@ impl<T: Real> Mul for ForwardLinear<T> {
 impl<T: Real> Div for ForwardLinear<T> {
     type Output = Self;
     /// `self · recip(rhs)`.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn div(self, rhs: Self) -> Self {
         self.lift2(rhs, |a, b| a / b)
     }
@@ -357,7 +357,7 @@ impl<T: Real> Div for ForwardLinear<T> {
 impl<T: Real> Add<T> for ForwardLinear<T> {
     type Output = Self;
     /// Shifts the start (rounded outward).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn add(self, c: T) -> Self {
         if !self.is_valid() || !c.is_finite() {
             return Self::INVALID;
@@ -369,7 +369,7 @@ impl<T: Real> Add<T> for ForwardLinear<T> {
 impl<T: Real> Sub<T> for ForwardLinear<T> {
     type Output = Self;
     /// `self + (−c)`.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn sub(self, c: T) -> Self {
         self + (-c)
     }
@@ -378,7 +378,7 @@ impl<T: Real> Sub<T> for ForwardLinear<T> {
 impl<T: Real> Mul<T> for ForwardLinear<T> {
     type Output = Self;
     /// Scales start and slopes (rounded outward; sides swap for `c < 0`).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn mul(self, c: T) -> Self {
         if !self.is_valid() || !c.is_finite() {
             return Self::INVALID;
@@ -397,14 +397,14 @@ impl<T: Real> Div<T> for ForwardLinear<T> {
     type Output = Self;
     /// Divides start and slopes (rounded outward); `c = 0` or non-finite
     /// gives [`INVALID`](Self::INVALID).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn div(self, c: T) -> Self {
         Self::from_quadratic(self.to_quadratic() / c)
     }
 }
 
 /// The shorter of two validity lengths.
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 fn min_h<T: Real>(a: T, b: T) -> T {
     if a < b { a } else { b }
 }

@@ -89,7 +89,7 @@ pub trait FieldNum<T: Real>:
     /// point (e.g. on the boundary of a continuous piecewise definition).
     fn join(self, other: Self) -> Self;
     /// `max(1 − x, 0)`: the clamped `1 − x` of compact kernels.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn one_minus_clamped(self) -> Self {
         (-self + T::ONE).max(Self::constant(T::ZERO))
     }
@@ -98,37 +98,37 @@ pub trait FieldNum<T: Real>:
 macro_rules! float_num {
     ($($t:ty),*) => {$(
         impl FieldNum<$t> for $t {
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn constant(c: $t) -> Self { c }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn ray_param(t0: $t, _t1: $t) -> Self { t0 }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn sqr(self) -> Self { self * self }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn powi(self, n: i32) -> Self { Float::powi(self, n) }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn powf(self, p: $t) -> Self { Float::powf(self, p) }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn sqrt(self) -> Self { Float::sqrt(self) }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn recip(self) -> Self { 1.0 / self }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn exp(self) -> Self { Float::exp(self) }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn ln(self) -> Self { Float::ln(self) }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn sin(self) -> Self { Float::sin(self) }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn cos(self) -> Self { Float::cos(self) }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn abs(self) -> Self { Float::abs(self) }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn min(self, o: Self) -> Self { Float::min(self, o) }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn max(self, o: Self) -> Self { Float::max(self, o) }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn enclosure(&self) -> Interval<$t> { Interval::point(*self) }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn join(self, _o: Self) -> Self { self }
         }
     )*};
@@ -139,37 +139,37 @@ float_num!(f32, f64);
 macro_rules! forward_num {
     ($ty:ty, [$($gen:tt)*], $ray:expr, $encl:expr, $join:expr) => {
         impl<$($gen)*> FieldNum<T> for $ty {
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn constant(c: T) -> Self { <$ty>::constant(c) }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn ray_param(t0: T, t1: T) -> Self { ($ray)(t0, t1) }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn sqr(self) -> Self { <$ty>::sqr(self) }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn powi(self, n: i32) -> Self { <$ty>::powi(self, n) }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn powf(self, p: T) -> Self { <$ty>::powf(self, p) }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn sqrt(self) -> Self { <$ty>::sqrt(self) }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn recip(self) -> Self { <$ty>::recip(self) }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn exp(self) -> Self { <$ty>::exp(self) }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn ln(self) -> Self { <$ty>::ln(self) }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn sin(self) -> Self { <$ty>::sin(self) }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn cos(self) -> Self { <$ty>::cos(self) }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn abs(self) -> Self { <$ty>::abs(self) }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn min(self, o: Self) -> Self { <$ty>::min(self, o) }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn max(self, o: Self) -> Self { <$ty>::max(self, o) }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn enclosure(&self) -> Interval<T> { ($encl)(self) }
-            #[inline]
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn join(self, o: Self) -> Self { ($join)(self, o) }
         }
     };
@@ -198,67 +198,67 @@ forward_num!(
 );
 
 impl<T: Real> FieldNum<T> for Interval<T> {
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn constant(c: T) -> Self {
         Interval::point(c)
     }
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn ray_param(t0: T, t1: T) -> Self {
         Interval::new(t0, t1)
     }
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn sqr(self) -> Self {
         Interval::sqr(self)
     }
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn powi(self, n: i32) -> Self {
         Interval::powi(self, n)
     }
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn powf(self, p: T) -> Self {
         Interval::pow(self, p)
     }
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn sqrt(self) -> Self {
         Interval::sqrt(self)
     }
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn recip(self) -> Self {
         Interval::recip(self)
     }
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn exp(self) -> Self {
         Interval::exp(self)
     }
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn ln(self) -> Self {
         Interval::ln(self)
     }
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn sin(self) -> Self {
         Interval::sin(self)
     }
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn cos(self) -> Self {
         Interval::cos(self)
     }
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn abs(self) -> Self {
         Interval::abs(self)
     }
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn min(self, o: Self) -> Self {
         Interval::min(self, o)
     }
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn max(self, o: Self) -> Self {
         Interval::max(self, o)
     }
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn enclosure(&self) -> Interval<T> {
         *self
     }
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn join(self, o: Self) -> Self {
         self.hull(o)
     }
@@ -269,15 +269,15 @@ impl<T: Real> FieldNum<T> for Interval<T> {
 /// interval (`Interval::pow` of the form's range, which forgets the
 /// correlation but stays sound).
 impl<T: Real, const N: usize> FieldNum<T> for Affine<T, N> {
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn constant(c: T) -> Self {
         Affine::constant(c)
     }
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn ray_param(t0: T, t1: T) -> Self {
         Affine::variable(Interval::new(t0, t1), 0)
     }
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn sqr(self) -> Self {
         Affine::sqr(self)
     }
@@ -304,53 +304,53 @@ impl<T: Real, const N: usize> FieldNum<T> for Affine<T, N> {
         let p = acc.unwrap_or(self);
         if n < 0 { p.recip() } else { p }
     }
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn powf(self, p: T) -> Self {
         Affine::from_interval(self.to_interval().pow(p))
     }
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn sqrt(self) -> Self {
         Affine::sqrt(self)
     }
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn recip(self) -> Self {
         Affine::recip(self)
     }
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn exp(self) -> Self {
         Affine::exp(self)
     }
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn ln(self) -> Self {
         Affine::ln(self)
     }
     /// Through the range (sound, forgets the correlation).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn sin(self) -> Self {
         Affine::from_interval(self.to_interval().sin())
     }
     /// Through the range (sound, forgets the correlation).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn cos(self) -> Self {
         Affine::from_interval(self.to_interval().cos())
     }
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn abs(self) -> Self {
         Affine::abs(self)
     }
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn min(self, o: Self) -> Self {
         Affine::min(self, o)
     }
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn max(self, o: Self) -> Self {
         Affine::max(self, o)
     }
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn enclosure(&self) -> Interval<T> {
         self.to_interval()
     }
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn join(self, o: Self) -> Self {
         Affine::from_interval(self.to_interval().hull(o.to_interval()))
     }

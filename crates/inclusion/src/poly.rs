@@ -15,7 +15,7 @@ use boundtrace_ia_core::Real;
 use boundtrace_ia_core::round::{add_down, add_up, div_down, div_up, mul_down, mul_up, sub_down};
 
 /// `a · b` rounded down; `0 · x = 0`; NaN → `−∞`.
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub(crate) fn mul_lo<T: Real>(a: T, b: T) -> T {
     if a == T::ZERO || b == T::ZERO {
         return T::ZERO;
@@ -30,7 +30,7 @@ pub(crate) fn mul_lo<T: Real>(a: T, b: T) -> T {
 }
 
 /// `a · b` rounded up; `0 · x = 0`; NaN → `+∞`.
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub(crate) fn mul_hi<T: Real>(a: T, b: T) -> T {
     if a == T::ZERO || b == T::ZERO {
         return T::ZERO;
@@ -44,31 +44,31 @@ pub(crate) fn mul_hi<T: Real>(a: T, b: T) -> T {
 }
 
 /// `a + b` rounded down; NaN → `−∞`.
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub(crate) fn add_lo<T: Real>(a: T, b: T) -> T {
     lo_nan(add_down(a, b))
 }
 
 /// `a + b` rounded up; NaN → `+∞`.
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub(crate) fn add_hi<T: Real>(a: T, b: T) -> T {
     hi_nan(add_up(a, b))
 }
 
 /// `a − b` rounded down.
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub(crate) fn sub_lo<T: Real>(a: T, b: T) -> T {
     add_lo(a, -b)
 }
 
 /// `a − b` rounded up.
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub(crate) fn sub_hi<T: Real>(a: T, b: T) -> T {
     add_hi(a, -b)
 }
 
 /// `a / b` rounded down; NaN → `−∞`.
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub(crate) fn div_lo<T: Real>(a: T, b: T) -> T {
     if a == T::ZERO {
         return T::ZERO;
@@ -77,7 +77,7 @@ pub(crate) fn div_lo<T: Real>(a: T, b: T) -> T {
 }
 
 /// `a / b` rounded up; NaN → `+∞`.
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub(crate) fn div_hi<T: Real>(a: T, b: T) -> T {
     if a == T::ZERO {
         return T::ZERO;
@@ -85,18 +85,18 @@ pub(crate) fn div_hi<T: Real>(a: T, b: T) -> T {
     hi_nan(div_up(a, b))
 }
 
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub(crate) fn lo_nan<T: Real>(x: T) -> T {
     if x.is_nan() { T::NEG_INFINITY } else { x }
 }
 
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub(crate) fn hi_nan<T: Real>(x: T) -> T {
     if x.is_nan() { T::INFINITY } else { x }
 }
 
 /// `min` that ignores nothing: a NaN operand gives `−∞` (used for lower bounds).
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub(crate) fn min_lo<T: Real>(a: T, b: T) -> T {
     if a.is_nan() || b.is_nan() {
         T::NEG_INFINITY
@@ -108,7 +108,7 @@ pub(crate) fn min_lo<T: Real>(a: T, b: T) -> T {
 }
 
 /// `max` that gives `+∞` on a NaN operand (used for upper bounds).
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub(crate) fn max_hi<T: Real>(a: T, b: T) -> T {
     if a.is_nan() || b.is_nan() {
         T::INFINITY
@@ -121,7 +121,7 @@ pub(crate) fn max_hi<T: Real>(a: T, b: T) -> T {
 
 /// A lower bound of `num / (x_hi − x_lo)` for `x_hi > x_lo`, where `num` is
 /// already a lower bound of the numerator.
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub(crate) fn slope_lo<T: Real>(num: T, x_hi: T, x_lo: T) -> T {
     if num >= T::ZERO {
         div_lo(num, sub_hi(x_hi, x_lo))
@@ -132,7 +132,7 @@ pub(crate) fn slope_lo<T: Real>(num: T, x_hi: T, x_lo: T) -> T {
 
 /// An upper bound of `num / (x_hi − x_lo)` for `x_hi > x_lo`, where `num` is
 /// already an upper bound of the numerator.
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub(crate) fn slope_hi<T: Real>(num: T, x_hi: T, x_lo: T) -> T {
     if num >= T::ZERO {
         div_hi(num, sub_lo(x_hi, x_lo))
@@ -150,18 +150,18 @@ pub(crate) struct Side<T> {
 }
 
 impl<T: Real> Side<T> {
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn new(s: T, a: T, b: T) -> Self {
         Self { s, a, b }
     }
 
     /// The constant side `c`.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn constant(c: T) -> Self {
         Self::new(c, T::ZERO, T::ZERO)
     }
 
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn neg(self) -> Self {
         Self::new(-self.s, -self.a, -self.b)
     }
@@ -171,7 +171,7 @@ impl<T: Real> Side<T> {
     /// `γ₄·(|s| + τ(|a| + |b|τ))`, `γ₄ ≈ 2ε`; taken as `4ε·(…)` plus
     /// `4·MIN_POSITIVE` for underflow (also with flush-to-zero). One directed
     /// operation per bound instead of four.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn eval_err(self, tau: T) -> (T, T) {
         let v = self.s + tau * (self.a + self.b * tau);
         let m = self.s.abs() + tau * (self.a.abs() + self.b.abs() * tau);
@@ -180,7 +180,7 @@ impl<T: Real> Side<T> {
     }
 
     /// `s + τ(a + bτ)` rounded down (`τ ≥ 0`).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn at_lo(self, tau: T) -> T {
         if tau == T::ZERO {
             return self.s;
@@ -196,7 +196,7 @@ impl<T: Real> Side<T> {
     }
 
     /// `s + τ(a + bτ)` rounded up (`τ ≥ 0`).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn at_hi(self, tau: T) -> T {
         if tau == T::ZERO {
             return self.s;
@@ -211,7 +211,7 @@ impl<T: Real> Side<T> {
 
     /// The vertex `τv = −a/(2b)` when it may lie in `(0, h]` (a generous
     /// test: including it is always sound), with `b`'s sign.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn vertex_in(self, h: T) -> bool {
         let (a, b) = (self.a, self.b);
         if b == T::ZERO || a == T::ZERO || (a < T::ZERO) == (b < T::ZERO) {
@@ -244,14 +244,14 @@ impl<T: Real> Side<T> {
     }
 
     /// A sound enclosure `(lo, hi)` of the side's range over `τ ∈ [0, h]`.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn range(self, h: T) -> (T, T) {
         (self.range_lo(h), self.range_hi(h))
     }
 
     /// Whether `u(τ) = τ(a + bτ)` may be positive / negative somewhere on
     /// `(0, h]` (a `false` is proven).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn may_rise_fall(self, h: T) -> (bool, bool) {
         let (a, b) = (self.a, self.b);
         let rise = !(a <= T::ZERO && add_hi(a, mul_hi(b, h)) <= T::ZERO);
@@ -261,7 +261,7 @@ impl<T: Real> Side<T> {
 
     /// Folds the `τ²` term into the slope over `[0, h]` (quadratic → linear):
     /// `bτ² ≥ min(0, b·h)·τ` for a lower side.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn to_linear_lo(self, h: T) -> Self {
         let bh = if self.b < T::ZERO {
             mul_lo(self.b, h)
@@ -272,7 +272,7 @@ impl<T: Real> Side<T> {
     }
 
     /// Upper-side counterpart of [`to_linear_lo`](Self::to_linear_lo).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn to_linear_hi(self, h: T) -> Self {
         let bh = if self.b > T::ZERO {
             mul_hi(self.b, h)
@@ -284,31 +284,31 @@ impl<T: Real> Side<T> {
 }
 
 /// Coefficient-wise sum of two lower sides (rounded down).
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub(crate) fn add_sides_lo<T: Real>(p: Side<T>, q: Side<T>) -> Side<T> {
     Side::new(add_lo(p.s, q.s), add_lo(p.a, q.a), add_lo(p.b, q.b))
 }
 
 /// Coefficient-wise sum of two upper sides (rounded up).
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub(crate) fn add_sides_hi<T: Real>(p: Side<T>, q: Side<T>) -> Side<T> {
     Side::new(add_hi(p.s, q.s), add_hi(p.a, q.a), add_hi(p.b, q.b))
 }
 
 /// Coefficient-wise minimum: a lower bound of both (`τ, τ² ≥ 0`).
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub(crate) fn min_sides<T: Real>(p: Side<T>, q: Side<T>) -> Side<T> {
     Side::new(min_lo(p.s, q.s), min_lo(p.a, q.a), min_lo(p.b, q.b))
 }
 
 /// Coefficient-wise maximum: an upper bound of both.
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub(crate) fn max_sides<T: Real>(p: Side<T>, q: Side<T>) -> Side<T> {
     Side::new(max_hi(p.s, q.s), max_hi(p.a, q.a), max_hi(p.b, q.b))
 }
 
 /// `p · q` for scalars, both roundings.
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 fn prod<T: Real>(p: T, q: T) -> (T, T) {
     (mul_lo(p, q), mul_hi(p, q))
 }
@@ -320,23 +320,15 @@ fn prod<T: Real>(p: T, q: T) -> (T, T) {
 /// term covers underflow, also when a GPU flushes subnormals to zero; a
 /// fused multiply-add only lowers the error). Much cheaper than directed
 /// rounding of every product and sum, and as sound.
-#[inline]
-pub(crate) fn dot<T: Real, const N: usize>(xs: [(T, T); N]) -> (T, T) {
-    let mut s = T::ZERO;
-    let mut m = T::ZERO;
-    let mut n = 0u32;
-    let mut i = 0;
-    while i < N {
-        let (x, y) = xs[i];
-        i += 1;
-        if x == T::ZERO || y == T::ZERO {
-            continue;
-        }
-        let p = x * y;
-        s = s + p;
-        m = m + p.abs();
-        n += 1;
-    }
+#[cfg_attr(not(target_arch = "spirv"), inline)]
+pub(crate) fn dot<T: Real>(xs: [(T, T); 3]) -> (T, T) {
+    // Three named terms, no index loop: a dynamic index is a bounds check,
+    // i.e. a panic, which rust-gpu 0.11 can only handle by inlining every
+    // caller up to the entry point (BENCHMARKS.md "GPU"). Callers pad with
+    // `(0, 0)` terms, which are skipped below: the same sums as without.
+    let [a, b, c] = xs;
+    let acc = dot_term(dot_term(dot_term((T::ZERO, T::ZERO, 0), a), b), c);
+    let (s, m, n) = acc;
     if n == 0 {
         return (T::ZERO, T::ZERO);
     }
@@ -345,16 +337,27 @@ pub(crate) fn dot<T: Real, const N: usize>(xs: [(T, T); N]) -> (T, T) {
     (lo_nan(sub_down(s, err)), hi_nan(add_up(s, err)))
 }
 
+/// One term of [`dot`]: `(Σ, Σ|·|, count)` plus `x·y`, unless `x` or `y`
+/// is zero.
+#[cfg_attr(not(target_arch = "spirv"), inline)]
+fn dot_term<T: Real>((s, m, n): (T, T, u32), (x, y): (T, T)) -> (T, T, u32) {
+    if x == T::ZERO || y == T::ZERO {
+        return (s, m, n);
+    }
+    let p = x * y;
+    (s + p, m + p.abs(), n + 1)
+}
+
 /// The quartic `p·q = c₀ + c₁τ + c₂τ² + c₃τ³ + c₄τ⁴`, each coefficient as
 /// `(lower, upper)` bounds (`c₀`, the start value, with directed rounding;
 /// the others with [`dot`]).
 pub(crate) fn quartic<T: Real>(p: Side<T>, q: Side<T>) -> [(T, T); 5] {
     [
         prod(p.s, q.s),
-        dot([(p.s, q.a), (p.a, q.s)]),
+        dot([(p.s, q.a), (p.a, q.s), (T::ZERO, T::ZERO)]),
         dot([(p.s, q.b), (p.a, q.a), (p.b, q.s)]),
-        dot([(p.a, q.b), (p.b, q.a)]),
-        dot([(p.b, q.b)]),
+        dot([(p.a, q.b), (p.b, q.a), (T::ZERO, T::ZERO)]),
+        dot([(p.b, q.b), (T::ZERO, T::ZERO), (T::ZERO, T::ZERO)]),
     ]
 }
 
@@ -396,8 +399,10 @@ pub(crate) fn reduce_lo_fig8<T: Real>(c: [(T, T); 5], h: T) -> Option<Side<T>> {
     if !(h > T::ZERO) || !h.is_finite() {
         return None;
     }
-    let iv = |k: usize| Interval::new(c[k].0, c[k].1);
-    let (c1, c2, c3, c4) = (iv(1), iv(2), iv(3), iv(4));
+    // Constant indices only: a dynamic index is a panic path, which
+    // rust-gpu 0.11 handles by inlining every caller (BENCHMARKS.md "GPU").
+    let (c1, c2) = (Interval::new(c[1].0, c[1].1), Interval::new(c[2].0, c[2].1));
+    let (c3, c4) = (Interval::new(c[3].0, c[3].1), Interval::new(c[4].0, c[4].1));
     if c1.is_empty() || c2.is_empty() || c3.is_empty() || c4.is_empty() {
         return None;
     }
@@ -407,24 +412,18 @@ pub(crate) fn reduce_lo_fig8<T: Real>(c: [(T, T); 5], h: T) -> Option<Side<T>> {
     let ddp = |t: Interval<T>| d1 + t * (d2 * T::TWO + t * (d3 * T::from_f64(3.0)));
     // P‴ decides the convexity of P′.
     let dddp = |t: Interval<T>| d2 * T::TWO + t * (d3 * T::from_f64(6.0));
-    // Split points: 0, the inflection (if inside), h.
-    let mut cuts = [T::ZERO, h, h];
-    let mut ncut = 2;
+    // Split point: the inflection, if inside (0, h).
+    let mut split = None;
     let mid4 = c4.mid();
     if mid4 != T::ZERO {
         let ti = -c3.mid() / (mid4 * T::from_f64(4.0));
         if ti > T::ZERO && ti < h {
-            cuts = [T::ZERO, ti, h];
-            ncut = 3;
+            split = Some(ti);
         }
     }
-    // Lowest values at 0 and at h of the extended lines.
-    let mut at0 = T::INFINITY;
-    let mut ath = T::INFINITY;
-    let mut k = 0;
-    while k + 1 < ncut {
-        let (u, v) = (cuts[k], cuts[k + 1]);
-        k += 1;
+    // The values at 0 and h of the line below P′ on the part [u, v],
+    // extended (`None` when degenerate).
+    let part = |u: T, v: T| -> Option<(T, T)> {
         if !(v > u) {
             return None;
         }
@@ -454,6 +453,14 @@ pub(crate) fn reduce_lo_fig8<T: Real>(c: [(T, T); 5], h: T) -> Option<Side<T>> {
         let slope = (Interval::point(yv) - Interval::point(yu)) / (vi - ui);
         let l0 = (Interval::point(yu) + slope * (Interval::point(T::ZERO) - ui)).lo();
         let lh = (Interval::point(yu) + slope * (Interval::point(h) - ui)).lo();
+        Some((l0, lh))
+    };
+    // Lowest values at 0 and at h of the extended lines (one part, or two
+    // split at the inflection; no index loop, see above).
+    let (l0, lh) = part(T::ZERO, split.unwrap_or(h))?;
+    let (mut at0, mut ath) = (min_lo(T::INFINITY, l0), min_lo(T::INFINITY, lh));
+    if let Some(ti) = split {
+        let (l0, lh) = part(ti, h)?;
         at0 = min_lo(at0, l0);
         ath = min_lo(ath, lh);
     }
@@ -465,7 +472,7 @@ pub(crate) fn reduce_lo_fig8<T: Real>(c: [(T, T); 5], h: T) -> Option<Side<T>> {
 }
 
 /// The coefficient bounds of `−P`.
-#[inline]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
 pub(crate) fn neg_quartic<T: Real>(c: [(T, T); 5]) -> [(T, T); 5] {
     [
         (-c[0].1, -c[0].0),
@@ -491,20 +498,16 @@ pub(crate) fn fig8_lo_estimate<T: Real>(c: [(T, T); 5], h: T) -> Option<(T, T)> 
     let dp =
         |t: T| c1 + t * (T::TWO * c2 + t * (T::from_f64(3.0) * c3 + t * T::from_f64(4.0) * c4));
     let ddp = |t: T| T::TWO * c2 + t * (T::from_f64(6.0) * c3 + t * T::from_f64(12.0) * c4);
-    let mut cuts = [T::ZERO, h, h];
-    let mut ncut = 2;
+    let mut split = None;
     if c4 != T::ZERO {
         let ti = -c3 / (T::from_f64(4.0) * c4);
         if ti > T::ZERO && ti < h {
-            cuts = [T::ZERO, ti, h];
-            ncut = 3;
+            split = Some(ti);
         }
     }
-    let (mut at0, mut ath) = (T::INFINITY, T::INFINITY);
-    let mut k = 0;
-    while k + 1 < ncut {
-        let (u, v) = (cuts[k], cuts[k + 1]);
-        k += 1;
+    // The line of the part [u, v] at 0 and h (no index loop: see
+    // [`reduce_lo_fig8`]).
+    let part = |u: T, v: T| {
         let m = u + (v - u) * T::HALF;
         let convex = T::from_f64(6.0) * c3 + T::from_f64(24.0) * c4 * m >= T::ZERO;
         let (yu, yv) = if convex {
@@ -514,8 +517,14 @@ pub(crate) fn fig8_lo_estimate<T: Real>(c: [(T, T); 5], h: T) -> Option<(T, T)> 
             (dp(u), dp(v))
         };
         let slope = (yv - yu) / (v - u);
-        at0 = at0.min(yu - slope * u);
-        ath = ath.min(yu + slope * (h - u));
+        (yu - slope * u, yu + slope * (h - u))
+    };
+    let (l0, lh) = part(T::ZERO, split.unwrap_or(h));
+    let (mut at0, mut ath) = (T::INFINITY.min(l0), T::INFINITY.min(lh));
+    if let Some(ti) = split {
+        let (l0, lh) = part(ti, h);
+        at0 = at0.min(l0);
+        ath = ath.min(lh);
     }
     // ∫₀^τ of the line through (0, at0), (h, ath), at τ = h/2 and τ = h.
     let mid = c0 + h * T::HALF * (at0 + (at0 + ath) * T::HALF) * T::HALF;
@@ -616,6 +625,47 @@ pub(crate) fn safe_root_pos<T: Real>(q: Side<T>, h: T) -> Option<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `dot` takes three named terms (no index loop, for the GPU build);
+    /// the `(0, 0)` padding must be neutral: the same bounds as summing
+    /// only the real terms, and those bounds must contain the exact sum.
+    #[test]
+    fn dot_padding_is_neutral_and_sound() {
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed % 2001) as f64 / 100.0 - 10.0
+        };
+        for _ in 0..200 {
+            let terms = [(next(), next()), (next(), next()), (next(), next())];
+            for n in 1..=3 {
+                let z = (0.0, 0.0);
+                let padded = match n {
+                    1 => [terms[0], z, z],
+                    2 => [terms[0], terms[1], z],
+                    _ => terms,
+                };
+                let moved = match n {
+                    1 => [z, z, terms[0]],
+                    2 => [terms[0], z, terms[1]],
+                    _ => terms,
+                };
+                let (lo, hi) = dot(padded);
+                assert_eq!((lo, hi), dot(moved), "padding position matters, n = {n}");
+                // Exact sum of the products of these small decimals: each
+                // product and the sum are within 1e-9 of the f64 values.
+                let exact: f64 = terms[..n].iter().map(|&(x, y)| x * y).sum();
+                assert!(
+                    lo <= exact + 1e-9 && exact - 1e-9 <= hi,
+                    "{lo} {exact} {hi}"
+                );
+                assert!(lo <= hi);
+            }
+        }
+        assert_eq!(dot([(0.0f64, 0.0), (0.0, 0.0), (0.0, 0.0)]), (0.0, 0.0));
+    }
 
     #[test]
     fn range_includes_vertex() {

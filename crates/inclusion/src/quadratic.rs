@@ -72,19 +72,19 @@ pub(crate) struct ModeCode(u32);
 impl ModeCode {
     const DEFAULT: Self = Self(Composition::ValidityInterval as u32);
 
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn get(self) -> Composition {
         Composition::from_code(self.0)
     }
 
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn join(self, other: Self) -> Self {
         self.get().join(other.get()).into()
     }
 }
 
 impl From<Composition> for ModeCode {
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn from(c: Composition) -> Self {
         Self(c as u32)
     }
@@ -166,50 +166,50 @@ impl<T: Real> ForwardQuadratic<T> {
     }
 
     /// Whether the bound is defined (its start enclosure is non-empty).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn is_valid(&self) -> bool {
         !self.start.is_empty()
     }
 
     /// The enclosure `[s₋, s₊]` of `f(t₀)`.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn start(&self) -> Interval<T> {
         self.start
     }
 
     /// Lower coefficients `(a₋, b₋)`.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn lower_coeffs(&self) -> [T; 2] {
         self.lo
     }
 
     /// Upper coefficients `(a₊, b₊)`.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn upper_coeffs(&self) -> [T; 2] {
         self.hi
     }
 
     /// The validity length `h`: the bounds hold for `τ = t − t₀ ∈ [0, h]`.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn validity(&self) -> T {
         self.h
     }
 
     /// The validity end `t₁' = t₀ + h`, rounded down (so `≤` the exact end).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn validity_end(&self, t0: T) -> T {
         boundtrace_ia_core::round::add_down(t0, self.h)
     }
 
     /// The [`Composition`] variant this bound was computed with.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn composition(&self) -> Composition {
         self.mode.get()
     }
 
     /// A sound enclosure `[f₋(τ), f₊(τ)]` at `τ = t − t₀` (rounded outward).
     /// Meaningful for `τ ∈ [0, h]`.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn bounds_at(&self, tau: T) -> Interval<T> {
         if !self.is_valid() {
             return Interval::EMPTY;
@@ -259,7 +259,7 @@ impl<T: Real> ForwardQuadratic<T> {
 
     /// The safe marching step: [`first_root`](Self::first_root), or the
     /// whole validity length `h` when the bound has no root.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn safe_step(&self) -> T {
         self.first_root().unwrap_or(self.h)
     }
@@ -291,17 +291,17 @@ impl<T: Real> ForwardQuadratic<T> {
 
     // ----- internals -------------------------------------------------------
 
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub(crate) fn lower_side(&self) -> Side<T> {
         Side::new(self.start.lo(), self.lo[0], self.lo[1])
     }
 
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub(crate) fn upper_side(&self) -> Side<T> {
         Side::new(self.start.hi(), self.hi[0], self.hi[1])
     }
 
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub(crate) fn from_sides(lo: Side<T>, hi: Side<T>, h: T, mode: impl Into<ModeCode>) -> Self {
         let start = Interval::new(lo.s, hi.s);
         let mut r = Self::from_parts(start, [lo.a, lo.b], [hi.a, hi.b], h);
@@ -309,7 +309,7 @@ impl<T: Real> ForwardQuadratic<T> {
         r
     }
 
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn min_h(&self, other: &Self) -> T {
         if self.h < other.h { self.h } else { other.h }
     }
@@ -818,7 +818,7 @@ fn bezier_max<T: Real>(p: Side<T>, q: Side<T>, h: T) -> Side<T> {
 impl<T: Real> Neg for ForwardQuadratic<T> {
     type Output = Self;
     /// Swaps and negates the sides (exact).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn neg(self) -> Self {
         if !self.is_valid() {
             return self;
@@ -835,7 +835,7 @@ impl<T: Real> Neg for ForwardQuadratic<T> {
 impl<T: Real> Add for ForwardQuadratic<T> {
     type Output = Self;
     /// Coefficient-wise sum (paper eq. 16), rounded outward.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn add(self, rhs: Self) -> Self {
         if !self.is_valid() || !rhs.is_valid() {
             return Self::INVALID;
@@ -852,7 +852,7 @@ impl<T: Real> Add for ForwardQuadratic<T> {
 impl<T: Real> Sub for ForwardQuadratic<T> {
     type Output = Self;
     /// `self + (−rhs)`.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn sub(self, rhs: Self) -> Self {
         self + (-rhs)
     }
@@ -873,64 +873,56 @@ impl<T: Real> Mul for ForwardQuadratic<T> {
         }
         let h = self.min_h(&rhs);
         let mode = self.mode.join(rhs.mode);
-        let fs = [self.lower_side(), self.upper_side()];
-        let gs = [rhs.lower_side(), rhs.upper_side()];
-        let mut lower: Option<Side<T>> = None;
-        let mut upper: Option<Side<T>> = None;
-        // Index loops: rust-gpu 0.11 cannot iterate an array by value.
-        let mut fi = 0;
-        while fi < fs.len() {
-            let f = fs[fi];
-            fi += 1;
-            let mut gi = 0;
-            while gi < gs.len() {
-                let g = gs[gi];
-                gi += 1;
-                let c = poly::quartic(f, g);
-                let mut l = poly::reduce_lo(c, h);
-                let mut u = poly::reduce_hi(c, h);
-                // The Fig. 8 rule only matters with cubic/quartic terms, and
-                // is only computed (rigorously) when a float estimate says it
-                // is tighter half way and at the end (see `fig8_if_tighter`).
-                let cubic = c[3] != (T::ZERO, T::ZERO) || c[4] != (T::ZERO, T::ZERO);
-                if cubic && h.is_finite() {
-                    let m = h * T::HALF;
-                    let promising = |est: Option<(T, T)>, ex: Side<T>| {
-                        est.is_some_and(|(em, eh)| em > ex.at_lo(m) && eh > ex.at_lo(h))
-                    };
-                    if promising(poly::fig8_lo_estimate(c, h), l) {
-                        if let Some(l8) = poly::reduce_lo_fig8(c, h) {
-                            l = fig8_if_tighter(l, l8, h);
-                        }
-                    }
-                    let neg = poly::neg_quartic(c);
-                    if promising(poly::fig8_lo_estimate(neg, h), u.neg()) {
-                        if let Some(u8) = poly::reduce_lo_fig8(neg, h) {
-                            u = fig8_if_tighter(u.neg(), u8, h).neg();
-                        }
-                    }
-                }
-                lower = Some(match lower {
-                    None => l,
-                    Some(x) => min_sides(x, l),
-                });
-                upper = Some(match upper {
-                    None => u,
-                    Some(x) => max_sides(x, u),
-                });
+        let (f0, f1) = (self.lower_side(), self.upper_side());
+        let (g0, g1) = (rhs.lower_side(), rhs.upper_side());
+        // The four corners by name, no index loop: a dynamic index is a
+        // panic path, which rust-gpu 0.11 handles by inlining every caller
+        // up to the entry point (BENCHMARKS.md "GPU").
+        let (l00, u00) = corner_product(f0, g0, h);
+        let (l01, u01) = corner_product(f0, g1, h);
+        let (l10, u10) = corner_product(f1, g0, h);
+        let (l11, u11) = corner_product(f1, g1, h);
+        let lower = min_sides(min_sides(min_sides(l00, l01), l10), l11);
+        let upper = max_sides(max_sides(max_sides(u00, u01), u10), u11);
+        Self::from_sides(lower, upper, h, mode)
+    }
+}
+
+/// The lower and upper quadratic sides of the quartic `f·g` on `[0, h]`
+/// (one corner of [`ForwardQuadratic`]'s product): [`poly::reduce_lo`] /
+/// [`poly::reduce_hi`], replaced by the Fig. 8 rule where it is tighter.
+fn corner_product<T: Real>(f: Side<T>, g: Side<T>, h: T) -> (Side<T>, Side<T>) {
+    let c = poly::quartic(f, g);
+    let mut l = poly::reduce_lo(c, h);
+    let mut u = poly::reduce_hi(c, h);
+    // The Fig. 8 rule only matters with cubic/quartic terms, and
+    // is only computed (rigorously) when a float estimate says it
+    // is tighter half way and at the end (see `fig8_if_tighter`).
+    let cubic = c[3] != (T::ZERO, T::ZERO) || c[4] != (T::ZERO, T::ZERO);
+    if cubic && h.is_finite() {
+        let m = h * T::HALF;
+        let promising = |est: Option<(T, T)>, ex: Side<T>| {
+            est.is_some_and(|(em, eh)| em > ex.at_lo(m) && eh > ex.at_lo(h))
+        };
+        if promising(poly::fig8_lo_estimate(c, h), l) {
+            if let Some(l8) = poly::reduce_lo_fig8(c, h) {
+                l = fig8_if_tighter(l, l8, h);
             }
         }
-        match (lower, upper) {
-            (Some(l), Some(u)) => Self::from_sides(l, u, h, mode),
-            _ => Self::INVALID,
+        let neg = poly::neg_quartic(c);
+        if promising(poly::fig8_lo_estimate(neg, h), u.neg()) {
+            if let Some(u8) = poly::reduce_lo_fig8(neg, h) {
+                u = fig8_if_tighter(u.neg(), u8, h).neg();
+            }
         }
     }
+    (l, u)
 }
 
 impl<T: Real> Div for ForwardQuadratic<T> {
     type Output = Self;
     /// `self · recip(rhs)`.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     #[allow(clippy::suspicious_arithmetic_impl)] // x / y = x · (1/y) by design
     fn div(self, rhs: Self) -> Self {
         self * rhs.recip()
@@ -941,7 +933,7 @@ impl<T: Real> Add<T> for ForwardQuadratic<T> {
     type Output = Self;
     /// Shifts the start values (rounded outward); a non-finite scalar gives
     /// [`INVALID`](Self::INVALID).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn add(self, c: T) -> Self {
         if !self.is_valid() || !c.is_finite() {
             return Self::INVALID;
@@ -956,7 +948,7 @@ impl<T: Real> Add<T> for ForwardQuadratic<T> {
 impl<T: Real> Sub<T> for ForwardQuadratic<T> {
     type Output = Self;
     /// `self + (−c)`.
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn sub(self, c: T) -> Self {
         self + (-c)
     }
@@ -966,7 +958,7 @@ impl<T: Real> Mul<T> for ForwardQuadratic<T> {
     type Output = Self;
     /// Scales every coefficient (rounded outward), swapping the sides for a
     /// negative scalar; a non-finite scalar gives [`INVALID`](Self::INVALID).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn mul(self, c: T) -> Self {
         if !self.is_valid() || !c.is_finite() {
             return Self::INVALID;
@@ -983,7 +975,7 @@ impl<T: Real> Div<T> for ForwardQuadratic<T> {
     type Output = Self;
     /// Divides every coefficient (rounded outward); a zero or non-finite
     /// divisor gives [`INVALID`](Self::INVALID).
-    #[inline]
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn div(self, c: T) -> Self {
         if !self.is_valid() || !c.is_finite() || c == T::ZERO {
             return Self::INVALID;

@@ -63,6 +63,9 @@ compile_error!("boundtrace-tracer needs the `std` or the `libm` feature for its 
 #[cfg(feature = "alloc")]
 extern crate alloc;
 
+// Not used on the GPU (`trace_in` answers `Unsupported` for the bisection
+// methods there).
+#[cfg_attr(target_arch = "spirv", allow(dead_code))]
 pub mod bisect;
 pub mod camera;
 #[cfg(feature = "alloc")]

@@ -1,7 +1,9 @@
 //! One ray: roots, per-ray statistics and the [`trace`] entry point.
 
+#[cfg(not(target_arch = "spirv"))]
+use crate::bisect;
+use crate::march;
 use crate::method::{Method, Mode, Params};
-use crate::{bisect, march};
 use boundtrace_ia_core::Real;
 use boundtrace_inclusion::{Field, Ray, gradient};
 
@@ -172,12 +174,19 @@ pub fn trace_in<T: Real, F: Field<T>>(
         len,
     };
     match method {
+        #[cfg(not(target_arch = "spirv"))]
         Method::Interval => {
             bisect::bisect::<T, F, bisect::ByInterval>(field, ray, span, mode, params, slots)
         }
+        #[cfg(not(target_arch = "spirv"))]
         Method::Affine => {
             bisect::bisect::<T, F, bisect::ByAffine>(field, ray, span, mode, params, slots)
         }
+        // Not on the GPU: the bisection methods are no GPU methods (issue 9),
+        // and their code (affine arithmetic's index loops, i.e. panic paths)
+        // would multiply the shader's size after rust-gpu's forced inlining.
+        #[cfg(target_arch = "spirv")]
+        Method::Interval | Method::Affine => unsupported,
         // needs the skeleton: `scalis::trace_scalis`
         Method::ScalisQuadratic => unsupported,
         _ => march::march(field, ray, span, method, mode, params, slots),
