@@ -184,8 +184,12 @@ impl FieldNum<f32> for Sym {
             self.powi(p as i32)
         } else if p == 0.5 {
             self.sqrt()
+        } else if p > 0.0 {
+            // x^p = exp(p·ln x) for x > 0, and 0 at x = 0 (ln 0 = −∞);
+            // the fields call powf only on values ≥ 0 (kernel densities)
+            (self.ln() * p).exp()
         } else {
-            fail(TranslateError::Unsupported("powf with a non-integer exponent"));
+            fail(TranslateError::Unsupported("powf with a negative non-integer exponent"));
             self
         }
     }
