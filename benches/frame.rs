@@ -29,6 +29,14 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
 use std::time::Duration;
 
+/// Warm-up and measurement times: `(warm_ms, measure_ms)`, or 100 / 300 ms
+/// when `BOUNDTRACE_BENCH_QUICK` is set (`scripts/benchmarks.sh --quick`).
+fn times(warm_ms: u64, measure_ms: u64) -> (Duration, Duration) {
+    let quick = std::env::var_os("BOUNDTRACE_BENCH_QUICK").is_some();
+    let (w, m) = if quick { (100, 300) } else { (warm_ms, measure_ms) };
+    (Duration::from_millis(w), Duration::from_millis(m))
+}
+
 fn frames(c: &mut Criterion) {
     let cases = [
         ("blobs", Method::Segment),
@@ -45,8 +53,8 @@ fn frames(c: &mut Criterion) {
         let field = scene.field();
         let mut g = c.benchmark_group(format!("frame/{name}:{method}"));
         g.sample_size(10)
-            .warm_up_time(Duration::from_millis(500))
-            .measurement_time(Duration::from_secs(3));
+            .warm_up_time(times(500, 3000).0)
+            .measurement_time(times(500, 3000).1);
         g.bench_function("serial", |b| {
             b.iter(|| render_serial(field, &camera, bounds, black_box(&settings)).unwrap())
         });
@@ -73,8 +81,8 @@ fn abuffers(c: &mut Criterion) {
         let abvs = tree.abvs::<f64>();
         let mut g = c.benchmark_group(format!("abuffer/{name}"));
         g.sample_size(10)
-            .warm_up_time(Duration::from_millis(300))
-            .measurement_time(Duration::from_secs(2));
+            .warm_up_time(times(300, 2000).0)
+            .measurement_time(times(300, 2000).1);
         g.bench_function("abvs", |b| b.iter(|| black_box(tree).abvs::<f64>()));
         g.bench_function("build", |b| {
             b.iter(|| ABuffer::build(&camera, grid, bounds, black_box(&abvs)).unwrap())
@@ -97,8 +105,8 @@ fn slicing(c: &mut Criterion) {
     let bounds = scene.bounds();
     let mut g = c.benchmark_group("slice/scalis-tree");
     g.sample_size(10)
-        .warm_up_time(Duration::from_millis(300))
-        .measurement_time(Duration::from_secs(2));
+        .warm_up_time(times(300, 2000).0)
+        .measurement_time(times(300, 2000).1);
     g.bench_function("sample", |b| {
         b.iter(|| sample_scalis(w.field(), bounds, black_box(settings), &params).unwrap())
     });

@@ -25,6 +25,14 @@ use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use std::hint::black_box;
 use std::time::Duration;
 
+/// Warm-up and measurement times: `(warm_ms, measure_ms)`, or 100 / 300 ms
+/// when `BOUNDTRACE_BENCH_QUICK` is set (`scripts/benchmarks.sh --quick`).
+fn times(warm_ms: u64, measure_ms: u64) -> (Duration, Duration) {
+    let quick = std::env::var_os("BOUNDTRACE_BENCH_QUICK").is_some();
+    let (w, m) = if quick { (100, 300) } else { (warm_ms, measure_ms) };
+    (Duration::from_millis(w), Duration::from_millis(m))
+}
+
 /// Rays per scene.
 const RAYS: usize = 24;
 
@@ -72,8 +80,8 @@ fn bench(c: &mut Criterion) {
         let rays = RaySet::new(enlarged(scene.bounds(), 1e-3), RAYS, 1).unwrap();
         let mut g = c.benchmark_group(format!("per_ray/{name}"));
         g.sample_size(10)
-            .warm_up_time(Duration::from_millis(500))
-            .measurement_time(Duration::from_secs(2))
+            .warm_up_time(times(500, 2000).0)
+            .measurement_time(times(500, 2000).1)
             .throughput(Throughput::Elements(RAYS as u64));
         for method in Method::ALL {
             let supported = rays.rays().iter().all(|r| {

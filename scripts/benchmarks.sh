@@ -50,7 +50,6 @@ while [ $# -gt 0 ]; do
 done
 
 FIDGET="cargo run --release --quiet --manifest-path crates/bench-fidget/Cargo.toml --"
-TARGET="${CARGO_TARGET_DIR:-target}"
 
 # The command of a section (one string, run with bash -c; printed verbatim).
 command_of() {
@@ -67,9 +66,9 @@ command_of() {
             if [ "$QUICK" = 1 ]; then echo "$FIDGET intervals --samples 20000"; else echo "$FIDGET intervals --samples 1000000"; fi ;;
         criterion)
             if [ "$QUICK" = 1 ]; then
-                echo "cargo bench --quiet --features parallel --bench per_ray --bench frame -- --warm-up-time 0.2 --measurement-time 0.5 >&2 && python3 scripts/criterion_table.py $TARGET/criterion"
+                echo "BOUNDTRACE_BENCH_QUICK=1 cargo bench --quiet --features parallel --bench per_ray --bench frame >&2 && python3 scripts/criterion_table.py"
             else
-                echo "cargo bench --quiet --features parallel --bench per_ray --bench frame >&2 && python3 scripts/criterion_table.py $TARGET/criterion"
+                echo "cargo bench --quiet --features parallel --bench per_ray --bench frame >&2 && python3 scripts/criterion_table.py"
             fi ;;
         *) return 1 ;;
     esac

@@ -29,7 +29,7 @@ pub const OPS: &[&str] = &[
 ];
 
 /// Containment counts of one operation.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct OpCounts {
     /// Random input intervals (pairs for binary operations).
     pub samples: u64,
@@ -44,6 +44,10 @@ pub struct OpCounts {
     /// Input intervals where our result was empty although a reference
     /// value existed (counted in `ours_failures` too).
     pub ours_empty: u64,
+    /// The first case fidget failed: inputs, result, a missed reference.
+    pub fidget_example: Option<String>,
+    /// The first case we failed (there must be none).
+    pub ours_example: Option<String>,
 }
 
 /// A tiny deterministic PRNG (splitmix64).
@@ -164,9 +168,18 @@ fn holds(lo: f32, hi: f32, v: f64) -> bool {
     (lo as f64) <= v && v <= (hi as f64)
 }
 
-/// Checks one result against reference values; returns (failed, empty).
-fn check(lo: f32, hi: f32, refs: &[f64]) -> bool {
-    refs.iter().any(|v| v.is_finite() && !holds(lo, hi, *v))
+/// The first finite reference value outside `[lo, hi]`, if any.
+fn check(lo: f32, hi: f32, refs: &[f64]) -> Option<f64> {
+    refs.iter().copied().find(|v| v.is_finite() && !holds(lo, hi, *v))
+}
+
+/// A failing case for the report.
+fn describe(op: &str, a: (f32, f32), b: Option<(f32, f32)>, res: (f32, f32), missed: f64) -> String {
+    let input = match b {
+        Some(b) => format!("[{:e}, {:e}] {op} [{:e}, {:e}]", a.0, a.1, b.0, b.1),
+        None => format!("{op}([{:e}, {:e}])", a.0, a.1),
+    };
+    format!("`{input}` → `[{:e}, {:e}]` misses `{missed:e}`", res.0, res.1)
 }
 
 /// Runs `samples` random cases of operation `op` (one of [`OPS`]) with
@@ -262,74 +275,29 @@ pub fn run_op(op: &str, samples: u64, seed: u64) -> Result<OpCounts, String> {
         };
         c.checks += refs.iter().filter(|v| v.is_finite()).count() as u64;
         let any_ref = refs.iter().any(|v| v.is_finite());
+        let b = binary.then_some((blo, bhi));
         if ours.is_empty() {
             if any_ref {
                 c.ours_failures += 1;
                 c.ours_empty += 1;
+                c.ours_example
+                    .get_or_insert_with(|| describe(op, (alo, ahi), b, (f32::NAN, f32::NAN), refs[0]));
             }
-        } else if check(ours.lo(), ours.hi(), &refs) {
+        } else if let Some(v) = check(ours.lo(), ours.hi(), &refs) {
             c.ours_failures += 1;
+            c.ours_example
+                .get_or_insert_with(|| describe(op, (alo, ahi), b, (ours.lo(), ours.hi()), v));
         }
         if theirs.has_nan() {
             c.fidget_nan += 1;
-        } else if check(theirs.lower(), theirs.upper(), &refs) {
+        } else if let Some(v) = check(theirs.lower(), theirs.upper(), &refs) {
             c.fidget_failures += 1;
-        }
-    }
-    Ok(c)
-}
-
-/// One failing case of fidget for `op` (for the report), if any within
-/// `samples` cases: the input interval(s) and fidget's result.
-pub fn first_fidget_failure(op: &str, samples: u64, seed: u64) -> Option<String> {
-    // Re-run with one sample at a time (same stream) until a failure shows.
-    let mut rng = Rng::new(seed ^ op.bytes().fold(0u64, |h, b| h.wrapping_mul(31) ^ b as u64));
-    for _ in 0..samples.min(100_000) {
-        let s = rng.next_u64();
-        let c = run_op(op, 1, s).ok()?;
-        if c.fidget_failures > 0 {
-            let mut r = Rng::new(s ^ op.bytes().fold(0u64, |h, b| h.wrapping_mul(31) ^ b as u64));
-            let a = random_interval(&mut r, matches!(op, "sqrt" | "ln"));
-            let b = random_interval(&mut r, false);
-            let fa = Theirs::new(a.0, a.1);
-            let fb = Theirs::new(b.0, b.1);
-            let res = match op {
-                "add" => fa + fb,
-                "sub" => fa - fb,
-                "mul" => fa * fb,
-                "div" => fa / fb,
-                "recip" => fa.recip(),
-                "sqrt" => fa.sqrt(),
-                "square" => fa.square(),
-                "exp" => fa.exp(),
-                "ln" => fa.ln(),
-                "sin" => fa.sin(),
-                "cos" => fa.cos(),
-                _ => return None,
-            };
-            let binary = matches!(op, "add" | "sub" | "mul" | "div");
-            return Some(if binary {
-                format!(
-                    "`[{:e}, {:e}] {op} [{:e}, {:e}]` → `[{:e}, {:e}]`",
-                    a.0,
-                    a.1,
-                    b.0,
-                    b.1,
-                    res.lower(),
-                    res.upper()
-                )
-            } else {
-                format!(
-                    "`{op}([{:e}, {:e}])` → `[{:e}, {:e}]`",
-                    a.0,
-                    a.1,
-                    res.lower(),
-                    res.upper()
-                )
+            c.fidget_example.get_or_insert_with(|| {
+                describe(op, (alo, ahi), b, (theirs.lower(), theirs.upper()), v)
             });
         }
     }
-    None
+    Ok(c)
 }
 
 #[cfg(test)]
@@ -350,7 +318,7 @@ mod tests {
         // fidget's `+` rounds to nearest: some sum must miss its reference
         let c = run_op("add", 5000, 3).unwrap();
         assert!(c.fidget_failures > 0, "{c:?}");
-        assert!(first_fidget_failure("add", 5000, 3).is_some());
+        assert!(c.fidget_example.is_some() && c.ours_example.is_none());
     }
 
     #[test]
