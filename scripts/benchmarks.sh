@@ -60,7 +60,7 @@ command_of() {
             if [ "$QUICK" = 1 ]; then
                 echo "$FIDGET heightmap --scenes aggregate-1,aggregate-2,examples/scenes/primitives.json --size 64 --threads 1 --reps 2"
             else
-                echo "$FIDGET heightmap --scenes aggregate-1,aggregate-2,aggregate-3,aggregate-4,examples/scenes/primitives.json,examples/scenes/operators.json --size 256 --threads 1,2 --reps 5 --renderers fidget-jit,fidget-vm,full:sphere,sync:sphere && $FIDGET heightmap --scenes aggregate-2,aggregate-3,aggregate-4 --size 256 --threads 2 --reps 5 --eps voxel --renderers fidget-jit,sync:sphere"
+                echo "$FIDGET heightmap --scenes aggregate-1,aggregate-2,aggregate-3,examples/scenes/primitives.json,examples/scenes/operators.json --size 128 --threads 1,2 --reps 3 --renderers fidget-jit,fidget-vm,full:sphere,sync:sphere && $FIDGET heightmap --scenes aggregate-4 --size 128 --threads 2 --reps 1 --renderers fidget-jit,sync:sphere && $FIDGET heightmap --scenes aggregate-1,aggregate-2,aggregate-3 --size 128 --threads 2 --reps 3 --eps voxel --renderers fidget-jit,full:sphere,sync:sphere"
             fi ;;
         fidget-intervals)
             if [ "$QUICK" = 1 ]; then echo "$FIDGET intervals --samples 20000"; else echo "$FIDGET intervals --samples 1000000"; fi ;;

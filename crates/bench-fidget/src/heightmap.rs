@@ -203,6 +203,8 @@ impl Renderer {
 pub struct DepthImage {
     /// Voxel depths.
     pub depth: Vec<i64>,
+    /// Our first hit's ray parameter per pixel (empty for fidget's images).
+    pub t: Vec<Option<f32>>,
 }
 
 /// Compiled fidget shapes (compilation is timed separately).
@@ -241,20 +243,24 @@ fn from_frame(view: &View, frame: &Frame<f32>) -> DepthImage {
     let n = view.size;
     let top = view.center[2] + view.half;
     let mut depth = Vec::with_capacity((n * n) as usize);
+    let mut ts = Vec::with_capacity((n * n) as usize);
     for y in 0..n {
         for x in 0..n {
-            depth.push(match frame.depth(x, y) {
+            let t = frame.depth(x, y);
+            ts.push(t);
+            depth.push(match t {
                 Some(t) => view.voxel_depth(top - t).max(1),
                 None => 0,
             });
         }
     }
-    DepthImage { depth }
+    DepthImage { depth, t: ts }
 }
 
 fn from_fidget(image: &voxel::Image) -> DepthImage {
     DepthImage {
         depth: image.iter().map(|p| i64::from(p.depth)).collect(),
+        t: Vec::new(),
     }
 }
 
@@ -364,6 +370,43 @@ impl Agreement {
     pub fn depth_percent(&self) -> f64 {
         100.0 * self.depth_close as f64 / self.both.max(1) as f64
     }
+}
+
+/// Of the pixels that `ours` hits and `fidget` misses, how many have a
+/// point with `f < 0` (our `f32` interpreter) within one voxel pitch of our
+/// hit along the ray (64 samples): the surface is really there, between
+/// fidget's voxel centres. Returns (checked, confirmed).
+pub fn confirm_only_ours(
+    p: &Prepared,
+    view: &View,
+    ours: &DepthImage,
+    fidget: &DepthImage,
+) -> (usize, usize) {
+    let n = view.size;
+    let (mut checked, mut confirmed) = (0, 0);
+    let top = view.center[2] + view.half;
+    let tree = p.tree.as_ref();
+    for (i, (a, b)) in ours.depth.iter().zip(&fidget.depth).enumerate() {
+        let Some(Some(t)) = ours.t.get(i).copied() else {
+            continue;
+        };
+        if !(*a > 0 && *b == 0) {
+            continue;
+        }
+        checked += 1;
+        let (px, py) = ((i as u32 % n) as f32, (i as u32 / n) as f32);
+        let x = view.center[0] + view.half * ((2.0 * px + 1.0) / n as f32 - 1.0);
+        let y = view.center[1] + view.half * (1.0 - (2.0 * py + 1.0) / n as f32);
+        let pitch = view.pitch();
+        let inside = (0..=64).any(|k| {
+            let z = top - t - pitch + 2.0 * pitch * k as f32 / 64.0;
+            tree.eval_full::<f32, f32>([x, y, z]) < 0.0
+        });
+        if inside {
+            confirmed += 1;
+        }
+    }
+    (checked, confirmed)
 }
 
 /// min, median and max of `v` (sorted in place); zeros for an empty slice.

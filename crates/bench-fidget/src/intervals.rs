@@ -92,7 +92,7 @@ fn ulps(x: f32, n: i32) -> f32 {
 pub fn random_interval(rng: &mut Rng, positive: bool) -> (f32, f32) {
     let kind = rng.next_u64() % 6;
     let sign = |rng: &mut Rng| {
-        if positive || rng.next_u64() % 2 == 0 {
+        if positive || rng.next_u64().is_multiple_of(2) {
             1.0
         } else {
             -1.0

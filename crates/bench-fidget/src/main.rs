@@ -26,7 +26,9 @@ use boundtrace_cli::scene_format::SceneFile;
 use boundtrace_tracer::Method;
 use boundtrace_tracer::scenes::{DEFAULT_SEED, Scene, SceneField};
 use fidget::render::ThreadPool;
-use heightmap::{Agreement, Renderer, View, min_med_max, prepare, render_once, shapes};
+use heightmap::{
+    Agreement, Renderer, View, confirm_only_ours, min_med_max, prepare, render_once, shapes,
+};
 use std::process::ExitCode;
 
 const USAGE: &str = "usage: boundtrace-bench-fidget heightmap [--scenes a,b,file.json] [--size N] \
@@ -243,8 +245,13 @@ fn heightmap_cmd(args: &[String]) -> Result<(), String> {
                     None => reference = Some(img),
                     Some(fid) if ti == 0 => {
                         let g = Agreement::of(&img, fid);
+                        let (checked, confirmed) = if r.is_fidget() {
+                            (0, 0)
+                        } else {
+                            confirm_only_ours(&p, &view, &img, fid)
+                        };
                         agreement_rows.push(format!(
-                            "| {} | {} | {} | {:.1e} / {} | {} | {:.3} | {} | {} | {} | {:.2} |",
+                            "| {} | {} | {} | {:.1e} / {} | {} | {:.3} | {} | {} ({confirmed} of {checked} confirmed) | {} | {:.2} |",
                             p.name,
                             p.primitives,
                             p.fidget_nodes,
@@ -297,7 +304,9 @@ fn heightmap_cmd(args: &[String]) -> Result<(), String> {
     println!(
         "Agreement with fidget's JIT heightmap ({n}×{n} pixels, {n} voxels deep; our eps = {eps}). \
          \"field check\": largest relative difference of the two fields on 300 random points of the \
-         bounds / points where their signs differ.\n",
+         bounds / points where their signs differ. \"confirmed\": pixels hit only by us where our field \
+         is < 0 within one voxel of our hit (64 samples along the ray): the surface passes between \
+         fidget's voxel centres.\n",
         n = o.size,
         eps = match o.eps {
             Some(e) => format!("{e:e}"),

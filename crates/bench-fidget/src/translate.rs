@@ -277,7 +277,7 @@ pub fn check_translation(
         let (v, _) = eval.eval(&tape, p[0], p[1], p[2])?;
         let ours: f32 = tree.as_ref().eval_full::<f32, f32>(*p);
         let err = (v - ours).abs() / ours.abs().max(1.0);
-        if !(err <= worst) {
+        if err.is_nan() || err > worst {
             worst = err;
         }
         if ours.abs() > tol && (v < 0.0) != (ours < 0.0) {
