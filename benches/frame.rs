@@ -33,7 +33,11 @@ use std::time::Duration;
 /// when `BOUNDTRACE_BENCH_QUICK` is set (`scripts/benchmarks.sh --quick`).
 fn times(warm_ms: u64, measure_ms: u64) -> (Duration, Duration) {
     let quick = std::env::var_os("BOUNDTRACE_BENCH_QUICK").is_some();
-    let (w, m) = if quick { (100, 300) } else { (warm_ms, measure_ms) };
+    let (w, m) = if quick {
+        (100, 300)
+    } else {
+        (warm_ms, measure_ms)
+    };
     (Duration::from_millis(w), Duration::from_millis(m))
 }
 
