@@ -2,7 +2,7 @@
 //! multi-threaded, the tile A-buffer build of synchronized tracing, and
 //! slicing on a small grid.
 //!
-//! - group `frame/<scene>:<method>` (64×64 pixels, perspective camera
+//! - group `frame/<scene>:<method>` (32×32 pixels, perspective camera
 //!   framing the scene, opaque, default parameters, `f64`): `serial`
 //!   ([`render_serial`], one thread) and `parallel` ([`render`] on rayon's
 //!   pool, every core; only with `--features parallel`, otherwise the same
@@ -41,19 +41,21 @@ fn times(warm_ms: u64, measure_ms: u64) -> (Duration, Duration) {
     (Duration::from_millis(w), Duration::from_millis(m))
 }
 
+/// Frame side in pixels.
+const SIZE: u32 = 32;
+
 fn frames(c: &mut Criterion) {
     let cases = [
         ("blobs", Method::Segment),
         ("blobs", Method::QuadraticTaylor),
-        ("molecule", Method::Sphere),
         ("hrbf-17", Method::Interval),
-        ("aggregate-2", Method::Sphere),
+        ("aggregate-1", Method::Sphere),
     ];
     for (name, method) in cases {
         let scene: Scene<f64> = Scene::build(name, DEFAULT_SEED).unwrap();
         let bounds = scene.bounds();
         let camera = Camera::framing(bounds, [-0.3, -0.4, -1.0], 40.0, 1.0).unwrap();
-        let settings = RenderSettings::new(64, 64, method).unwrap();
+        let settings = RenderSettings::new(SIZE, SIZE, method).unwrap();
         let field = scene.field();
         let mut g = c.benchmark_group(format!("frame/{name}:{method}"));
         g.sample_size(10)

@@ -84,8 +84,8 @@ fn bench(c: &mut Criterion) {
         let rays = RaySet::new(enlarged(scene.bounds(), 1e-3), RAYS, 1).unwrap();
         let mut g = c.benchmark_group(format!("per_ray/{name}"));
         g.sample_size(10)
-            .warm_up_time(times(500, 2000).0)
-            .measurement_time(times(500, 2000).1)
+            .warm_up_time(times(300, 1000).0)
+            .measurement_time(times(300, 1000).1)
             .throughput(Throughput::Elements(RAYS as u64));
         for method in Method::ALL {
             let supported = rays.rays().iter().all(|r| {
