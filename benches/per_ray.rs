@@ -7,9 +7,11 @@
 //! number of rays, so criterion reports the time per ray. `scalis-quadratic`
 //! (and `sphere`/`interval` on the SCALIS scenes) go through the per-ray
 //! primitive lists, as in the statistics harness; methods that a scene does
-//! not support (no Taylor bound, …) are left out. `aggregate-3`/`-4` (and
-//! their smooth variants) are left out: full-tree evaluation of 1,110 and
-//! 11,110 primitives costs 10–100 ms per ray (see `sync_tracing` and the
+//! not support (no Taylor bound, …) are left out, and so is any method
+//! whose first pass over the rays takes more than 2 s (named on stderr;
+//! e.g. `sphere` on `molecule`). `aggregate-3`/`-4` (and their smooth
+//! variants) are left out: full-tree evaluation of 1,110 and 11,110
+//! primitives costs 10–100 ms per ray (see `sync_tracing` and the
 //! synchronized-tracing tables of BENCHMARKS.md).
 //!
 //! Run with `cargo bench --bench per_ray` (add `-- blobs` for one scene);
@@ -23,7 +25,7 @@ use boundtrace::tracer::sync::empty_root;
 use boundtrace::tracer::{Method, Mode, Params, Status, Trace, trace};
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use std::hint::black_box;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 /// Warm-up and measurement times: `(warm_ms, measure_ms)`, or 100 / 300 ms
 /// when `BOUNDTRACE_BENCH_QUICK` is set (`scripts/benchmarks.sh --quick`).
@@ -39,6 +41,12 @@ fn times(warm_ms: u64, measure_ms: u64) -> (Duration, Duration) {
 
 /// Rays per scene.
 const RAYS: usize = 24;
+
+/// A method whose first pass over the rays takes longer than this is left
+/// out (reported on stderr): e.g. `sphere` on `molecule`, whose global
+/// Lipschitz bound makes it take ~1 s per ray, would take minutes per
+/// sample. The table shows such a method as "—".
+const MAX_PASS: Duration = Duration::from_secs(2);
 
 /// Traces one ray of `scene` with `method`, dispatching like the
 /// statistics harness.
@@ -88,11 +96,20 @@ fn bench(c: &mut Criterion) {
             .measurement_time(times(300, 1000).1)
             .throughput(Throughput::Elements(RAYS as u64));
         for method in Method::ALL {
+            let start = Instant::now();
             let supported = rays.rays().iter().all(|r| {
                 trace_one(&scene, &r.ray, r.span, method, &params, &mut storage).status
                     != Status::Unsupported
             });
             if !supported {
+                continue;
+            }
+            if start.elapsed() > MAX_PASS {
+                eprintln!(
+                    "per_ray/{name}/{method}: left out (one pass over the rays took {:.1} s > {} s)",
+                    start.elapsed().as_secs_f64(),
+                    MAX_PASS.as_secs()
+                );
                 continue;
             }
             g.bench_function(method.name(), |b| {
