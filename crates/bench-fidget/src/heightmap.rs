@@ -130,7 +130,8 @@ pub fn prepare(
     primitives: usize,
     points: usize,
 ) -> Result<Prepared, String> {
-    let (ctx, root) = blobtree_to_fidget(&tree).map_err(|e: TranslateError| format!("{name}: {e}"))?;
+    let (ctx, root) =
+        blobtree_to_fidget(&tree).map_err(|e: TranslateError| format!("{name}: {e}"))?;
     let mut rng = crate::intervals::Rng::new(0x5EED);
     let [lo, hi] = bounds;
     let pts: Vec<[f32; 3]> = (0..points)
@@ -181,14 +182,18 @@ impl Renderer {
             "fidget-vm" => return Ok(Renderer::FidgetVm),
             _ => {}
         }
-        let (kind, m) = s
-            .split_once(':')
-            .ok_or_else(|| format!("bad renderer `{s}`: expected fidget-jit, fidget-vm, full:METHOD or sync:METHOD"))?;
+        let (kind, m) = s.split_once(':').ok_or_else(|| {
+            format!(
+                "bad renderer `{s}`: expected fidget-jit, fidget-vm, full:METHOD or sync:METHOD"
+            )
+        })?;
         let m: Method = m.parse().map_err(|e| format!("renderer `{s}`: {e}"))?;
         match kind {
             "full" => Ok(Renderer::Full(m)),
             "sync" => Ok(Renderer::Sync(m)),
-            _ => Err(format!("bad renderer `{s}`: expected full:METHOD or sync:METHOD")),
+            _ => Err(format!(
+                "bad renderer `{s}`: expected full:METHOD or sync:METHOD"
+            )),
         }
     }
     /// `true` for fidget's renderers.
@@ -462,11 +467,21 @@ mod tests {
         assert_eq!(p.sign_differs, 0);
         let s = shapes(&p).unwrap();
         let view = View::new(bounds, 48);
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
-        let (a, _) =
-            render_once(&p, &s, &view, Renderer::FidgetVm, 1e-4, &pool, None).unwrap();
-        let (b, _) = render_once(&p, &s, &view, Renderer::Full(Method::Sphere), 1e-4, &pool, None)
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
             .unwrap();
+        let (a, _) = render_once(&p, &s, &view, Renderer::FidgetVm, 1e-4, &pool, None).unwrap();
+        let (b, _) = render_once(
+            &p,
+            &s,
+            &view,
+            Renderer::Full(Method::Sphere),
+            1e-4,
+            &pool,
+            None,
+        )
+        .unwrap();
         let g = Agreement::of(&a, &b);
         assert!(g.both > 300, "{g:?}");
         assert!(g.mask_percent() > 99.0, "{g:?}");

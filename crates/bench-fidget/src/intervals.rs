@@ -24,8 +24,8 @@ use fidget::types::Interval as Theirs;
 
 /// The operations compared.
 pub const OPS: &[&str] = &[
-    "add", "sub", "mul", "div", "recip", "sqrt", "square", "exp", "ln", "sin", "cos", "abs",
-    "min", "max", "neg",
+    "add", "sub", "mul", "div", "recip", "sqrt", "square", "exp", "ln", "sin", "cos", "abs", "min",
+    "max", "neg",
 ];
 
 /// Containment counts of one operation.
@@ -170,16 +170,27 @@ fn holds(lo: f32, hi: f32, v: f64) -> bool {
 
 /// The first finite reference value outside `[lo, hi]`, if any.
 fn check(lo: f32, hi: f32, refs: &[f64]) -> Option<f64> {
-    refs.iter().copied().find(|v| v.is_finite() && !holds(lo, hi, *v))
+    refs.iter()
+        .copied()
+        .find(|v| v.is_finite() && !holds(lo, hi, *v))
 }
 
 /// A failing case for the report.
-fn describe(op: &str, a: (f32, f32), b: Option<(f32, f32)>, res: (f32, f32), missed: f64) -> String {
+fn describe(
+    op: &str,
+    a: (f32, f32),
+    b: Option<(f32, f32)>,
+    res: (f32, f32),
+    missed: f64,
+) -> String {
     let input = match b {
         Some(b) => format!("[{:e}, {:e}] {op} [{:e}, {:e}]", a.0, a.1, b.0, b.1),
         None => format!("{op}([{:e}, {:e}])", a.0, a.1),
     };
-    format!("`{input}` → `[{:e}, {:e}]` misses `{missed:e}`", res.0, res.1)
+    format!(
+        "`{input}` → `[{:e}, {:e}]` misses `{missed:e}`",
+        res.0, res.1
+    )
 }
 
 /// Runs `samples` random cases of operation `op` (one of [`OPS`]) with
@@ -211,8 +222,14 @@ pub fn run_op(op: &str, samples: u64, seed: u64) -> Result<OpCounts, String> {
             let mut xs = vec![alo as f64, ahi as f64];
             let mut ys = vec![blo as f64, bhi as f64];
             for _ in 0..3 {
-                xs.push((alo as f64 + (ahi as f64 - alo as f64) * rng.unit()).clamp(alo as f64, ahi as f64));
-                ys.push((blo as f64 + (bhi as f64 - blo as f64) * rng.unit()).clamp(blo as f64, bhi as f64));
+                xs.push(
+                    (alo as f64 + (ahi as f64 - alo as f64) * rng.unit())
+                        .clamp(alo as f64, ahi as f64),
+                );
+                ys.push(
+                    (blo as f64 + (bhi as f64 - blo as f64) * rng.unit())
+                        .clamp(blo as f64, bhi as f64),
+                );
             }
             for &x in &xs {
                 for &y in &ys {
@@ -280,8 +297,9 @@ pub fn run_op(op: &str, samples: u64, seed: u64) -> Result<OpCounts, String> {
             if any_ref {
                 c.ours_failures += 1;
                 c.ours_empty += 1;
-                c.ours_example
-                    .get_or_insert_with(|| describe(op, (alo, ahi), b, (f32::NAN, f32::NAN), refs[0]));
+                c.ours_example.get_or_insert_with(|| {
+                    describe(op, (alo, ahi), b, (f32::NAN, f32::NAN), refs[0])
+                });
             }
         } else if let Some(v) = check(ours.lo(), ours.hi(), &refs) {
             c.ours_failures += 1;

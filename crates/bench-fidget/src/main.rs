@@ -176,7 +176,16 @@ fn heightmap_options(args: &[String]) -> Result<HeightmapOptions, String> {
 }
 
 /// Our tree, bounds and primitive count of a standard scene or a scene file.
-fn load(name: &str) -> Result<(boundtrace_fields::blobtree::FlatBlobtree, [[f32; 3]; 2], usize), String> {
+fn load(
+    name: &str,
+) -> Result<
+    (
+        boundtrace_fields::blobtree::FlatBlobtree,
+        [[f32; 3]; 2],
+        usize,
+    ),
+    String,
+> {
     let scene: Scene<f32> = if name.ends_with(".json") {
         let text =
             std::fs::read_to_string(name).map_err(|e| format!("cannot read `{name}`: {e}"))?;
@@ -271,8 +280,7 @@ fn heightmap_cmd(args: &[String]) -> Result<(), String> {
             let mut times: Vec<Vec<f64>> = vec![Vec::new(); renderers.len()];
             for _ in 0..o.reps {
                 for (i, &r) in renderers.iter().enumerate() {
-                    let (_, dt) =
-                        render_once(&p, &s, &view, r, eps, &pool, fidget_pool.as_ref())?;
+                    let (_, dt) = render_once(&p, &s, &view, r, eps, &pool, fidget_pool.as_ref())?;
                     times[i].push(dt.as_secs_f64() * 1e3);
                 }
             }
@@ -325,7 +333,9 @@ fn heightmap_cmd(args: &[String]) -> Result<(), String> {
         n = o.size,
         reps = o.reps
     );
-    println!("| scene | primitives | threads | renderer | min | median | max | ratio to fidget-jit |");
+    println!(
+        "| scene | primitives | threads | renderer | min | median | max | ratio to fidget-jit |"
+    );
     println!("| --- | ---: | ---: | --- | ---: | ---: | ---: | --- |");
     for r in &time_rows {
         println!("{r}");
@@ -333,5 +343,7 @@ fn heightmap_cmd(args: &[String]) -> Result<(), String> {
     for s in &skipped {
         println!("\nNot compared: {s}.");
     }
+    // a blank line, so that the outputs of several runs concatenate
+    println!();
     Ok(())
 }

@@ -189,7 +189,9 @@ impl FieldNum<f32> for Sym {
             // the fields call powf only on values ≥ 0 (kernel densities)
             (self.ln() * p).exp()
         } else {
-            fail(TranslateError::Unsupported("powf with a negative non-integer exponent"));
+            fail(TranslateError::Unsupported(
+                "powf with a negative non-integer exponent",
+            ));
             self
         }
     }
@@ -244,7 +246,9 @@ pub fn blobtree_to_fidget(tree: &FlatBlobtree) -> Result<(Context, Node), Transl
     let mut ctx = Context::new();
     let [x, y, z] = ctx.axes();
     CTX.with(|c| *c.borrow_mut() = Some(ctx));
-    let root: Sym = tree.as_ref().eval_full::<f32, Sym>([Sym(x), Sym(y), Sym(z)]);
+    let root: Sym = tree
+        .as_ref()
+        .eval_full::<f32, Sym>([Sym(x), Sym(y), Sym(z)]);
     let ctx = CTX.with(|c| c.borrow_mut().take());
     if let Some(e) = FAILURE.with(|c| c.take()) {
         return Err(e);
@@ -295,9 +299,7 @@ mod tests {
 
     fn tree(op: Operator<f64>) -> FlatBlobtree {
         let s = TreeNode::primitive(Primitive::sphere([0.2, 0.0, 0.0], 0.3).unwrap());
-        let b = TreeNode::primitive(
-            Primitive::cuboid([-0.2, 0.1, 0.0], [0.2, 0.1, 0.3]).unwrap(),
-        );
+        let b = TreeNode::primitive(Primitive::cuboid([-0.2, 0.1, 0.0], [0.2, 0.1, 0.3]).unwrap());
         FlatBlobtree::from_node(&TreeNode::op(op, s, b)).unwrap()
     }
 
@@ -353,7 +355,10 @@ mod tests {
         for (n, s) in nodes {
             let v = ctx.eval_xyz(s.0, 1.3, 0.0, 0.0).unwrap();
             let want = 1.3f32.powi(n);
-            assert!((v - want).abs() <= 1e-5 * want.abs().max(1.0), "{n}: {v} vs {want}");
+            assert!(
+                (v - want).abs() <= 1e-5 * want.abs().max(1.0),
+                "{n}: {v} vs {want}"
+            );
         }
     }
 }
