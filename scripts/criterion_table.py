@@ -91,7 +91,8 @@ def per_ray_matrix(rows):
     ]
     methods.sort(key=lambda m: order.index(m) if m in order else len(order))
     print("Median time per ray (µs) and, in parentheses, the ratio of medians to `segment` "
-          "on the same rays (— : method not applicable to the scene).\n")
+          "on the same rays (— : method not applicable to the scene, or left out because one pass "
+          "over the rays took more than 2 s; the bench names those on stderr).\n")
     print("| scene | " + " | ".join(methods) + " |")
     print("| --- |" + " ---: |" * len(methods))
     for scene, g in groups.items():
