@@ -1,0 +1,135 @@
+//! Per-ray cost of every method on every standard scene (issue 12): a small
+//! fixed set of box-face rays per scene (the thesis §1.8 rays of the
+//! statistics harness, `RaySet`, seed 1), traced in opaque mode with the
+//! default parameters (`eps = 1e-4`), in `f64` like `boundtrace stats`.
+//!
+//! Group `per_ray/<scene>`, one function per method; the throughput is the
+//! number of rays, so criterion reports the time per ray. `scalis-quadratic`
+//! (and `sphere`/`interval` on the SCALIS scenes) go through the per-ray
+//! primitive lists, as in the statistics harness; methods that a scene does
+//! not support (no Taylor bound, …) are left out, and so is any method
+//! whose first pass over the rays takes more than 2 s (named on stderr;
+//! e.g. `sphere` on `molecule`). `aggregate-3`/`-4` (and their smooth
+//! variants) are left out: full-tree evaluation of 1,110 and 11,110
+//! primitives costs 10–100 ms per ray (see `sync_tracing` and the
+//! synchronized-tracing tables of BENCHMARKS.md).
+//!
+//! Run with `cargo bench --bench per_ray` (add `-- blobs` for one scene);
+//! `scripts/benchmarks.sh --only criterion` turns the results into the
+//! ratio table of BENCHMARKS.md. Compare lines of one group as ratios.
+
+use boundtrace::tracer::scalis::{PrimitiveHit, trace_scalis_ray};
+use boundtrace::tracer::scenes::{DEFAULT_SEED, NAMES, Scene, SceneField};
+use boundtrace::tracer::stats::{RaySet, SCALIS_LIST_CAPACITY, enlarged};
+use boundtrace::tracer::sync::empty_root;
+use boundtrace::tracer::{Method, Mode, Params, Status, Trace, trace};
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use std::hint::black_box;
+use std::time::{Duration, Instant};
+
+/// Warm-up and measurement times: `(warm_ms, measure_ms)`, or 100 / 300 ms
+/// when `BOUNDTRACE_BENCH_QUICK` is set (`scripts/benchmarks.sh --quick`).
+fn times(warm_ms: u64, measure_ms: u64) -> (Duration, Duration) {
+    let quick = std::env::var_os("BOUNDTRACE_BENCH_QUICK").is_some();
+    let (w, m) = if quick {
+        (100, 300)
+    } else {
+        (warm_ms, measure_ms)
+    };
+    (Duration::from_millis(w), Duration::from_millis(m))
+}
+
+/// Rays per scene.
+const RAYS: usize = 24;
+
+/// A method whose first pass over the rays takes longer than this is left
+/// out (reported on stderr): e.g. `sphere` on `molecule`, whose global
+/// Lipschitz bound makes it take ~1 s per ray, would take minutes per
+/// sample. The table shows such a method as "—".
+const MAX_PASS: Duration = Duration::from_secs(2);
+
+/// Traces one ray of `scene` with `method`, dispatching like the
+/// statistics harness.
+fn trace_one(
+    scene: &Scene<f64>,
+    ray: &boundtrace::inclusion::Ray<f64>,
+    span: [f64; 2],
+    method: Method,
+    params: &Params<f64>,
+    storage: &mut [PrimitiveHit<f64>],
+) -> Trace<f64> {
+    let mut roots = [empty_root(); 1];
+    match scene.field() {
+        SceneField::Scalis(w)
+            if matches!(
+                method,
+                Method::ScalisQuadratic | Method::Sphere | Method::Interval
+            ) =>
+        {
+            trace_scalis_ray(
+                w.field(),
+                ray,
+                span,
+                method,
+                Mode::Opaque,
+                params,
+                &mut roots,
+                storage,
+            )
+        }
+        f => trace(f, ray, span, method, Mode::Opaque, params, &mut roots),
+    }
+}
+
+fn bench(c: &mut Criterion) {
+    let params = Params::new();
+    let mut storage = vec![PrimitiveHit::empty(); SCALIS_LIST_CAPACITY];
+    for &name in NAMES {
+        if name.starts_with("aggregate-3") || name.starts_with("aggregate-4") {
+            continue;
+        }
+        let scene: Scene<f64> = Scene::build(name, DEFAULT_SEED).unwrap();
+        let rays = RaySet::new(enlarged(scene.bounds(), 1e-3), RAYS, 1).unwrap();
+        let mut g = c.benchmark_group(format!("per_ray/{name}"));
+        g.sample_size(10)
+            .warm_up_time(times(300, 1000).0)
+            .measurement_time(times(300, 1000).1)
+            .throughput(Throughput::Elements(RAYS as u64));
+        for method in Method::ALL {
+            let start = Instant::now();
+            let supported = rays.rays().iter().all(|r| {
+                trace_one(&scene, &r.ray, r.span, method, &params, &mut storage).status
+                    != Status::Unsupported
+            });
+            if !supported {
+                continue;
+            }
+            if start.elapsed() > MAX_PASS {
+                eprintln!(
+                    "per_ray/{name}/{method}: left out (one pass over the rays took {:.1} s > {} s)",
+                    start.elapsed().as_secs_f64(),
+                    MAX_PASS.as_secs()
+                );
+                continue;
+            }
+            g.bench_function(method.name(), |b| {
+                b.iter(|| {
+                    for r in rays.rays() {
+                        black_box(trace_one(
+                            &scene,
+                            &r.ray,
+                            r.span,
+                            method,
+                            black_box(&params),
+                            &mut storage,
+                        ));
+                    }
+                })
+            });
+        }
+        g.finish();
+    }
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
