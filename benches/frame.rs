@@ -27,19 +27,9 @@ use boundtrace::tracer::tiles::{ABuffer, TileGrid};
 use boundtrace::tracer::{Method, Params};
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
-use std::time::Duration;
 
-/// Warm-up and measurement times: `(warm_ms, measure_ms)`, or 100 / 300 ms
-/// when `BOUNDTRACE_BENCH_QUICK` is set (`scripts/benchmarks.sh --quick`).
-fn times(warm_ms: u64, measure_ms: u64) -> (Duration, Duration) {
-    let quick = std::env::var_os("BOUNDTRACE_BENCH_QUICK").is_some();
-    let (w, m) = if quick {
-        (100, 300)
-    } else {
-        (warm_ms, measure_ms)
-    };
-    (Duration::from_millis(w), Duration::from_millis(m))
-}
+mod timing;
+use timing::times;
 
 /// Frame side in pixels.
 const SIZE: u32 = 32;

@@ -27,17 +27,8 @@ use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 
-/// Warm-up and measurement times: `(warm_ms, measure_ms)`, or 100 / 300 ms
-/// when `BOUNDTRACE_BENCH_QUICK` is set (`scripts/benchmarks.sh --quick`).
-fn times(warm_ms: u64, measure_ms: u64) -> (Duration, Duration) {
-    let quick = std::env::var_os("BOUNDTRACE_BENCH_QUICK").is_some();
-    let (w, m) = if quick {
-        (100, 300)
-    } else {
-        (warm_ms, measure_ms)
-    };
-    (Duration::from_millis(w), Duration::from_millis(m))
-}
+mod timing;
+use timing::times;
 
 /// Rays per scene.
 const RAYS: usize = 24;
