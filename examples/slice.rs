@@ -4,12 +4,15 @@
 //!
 //! ```text
 //! cargo run --release --example slice -- [--scene scalis-foam] [--size 128]
-//!     [--slices 256] [--out DIR]
+//!     [--slices 256] [--sample-2n] [--reps R] [--out DIR]
 //! ```
 //! Prints the time of slicing (the column classifier,
 //! [`slice_scalis`]) with `N` and `2N` slices and of per-voxel sampling
 //! with `N` slices (and `2N` with `--sample-2n`), the ratios, and the
-//! voxels that differ; with `--out`, writes the `N` slices as PNG files.
+//! voxels that differ; with `--reps R` (R ≥ 2), times everything R times
+//! and prints a Markdown table of min/median/max times and ratios (the
+//! ratios are taken within each repetition); with `--out`, writes the `N`
+//! slices as PNG files.
 //! Single thread. Bad arguments exit with 2.
 
 use boundtrace::tracer::Params;
@@ -22,6 +25,7 @@ fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let (mut scene, mut size, mut slices, mut out, mut sample_2n) =
         ("scalis-foam".to_string(), 128u32, 256u32, None, false);
+    let mut reps = 1u32;
     let mut i = 0;
     while i + 1 < args.len() + 1 && i < args.len() {
         let v = args.get(i + 1).cloned().unwrap_or_default();
@@ -35,6 +39,10 @@ fn main() -> ExitCode {
             "--slices" => match num(&v) {
                 Some(n) => slices = n,
                 None => return bad("--slices needs a positive integer"),
+            },
+            "--reps" => match num(&v) {
+                Some(n) => reps = n,
+                None => return bad("--reps needs a positive integer"),
             },
             "--out" => out = Some(std::path::PathBuf::from(v)),
             "--sample-2n" => {
@@ -112,12 +120,14 @@ fn main() -> ExitCode {
         c.stats.field_evals,
         tc / ta
     );
+    let mut td = f64::NAN;
     if sample_2n {
-        let (d, td) = run(2 * slices, true);
+        let (d, t) = run(2 * slices, true);
         if let Err(e) = d {
             eprintln!("slice: {e}");
             return ExitCode::FAILURE;
         }
+        td = t;
         println!(
             "per-voxel sampling, {} slices: {td:.2} s ({:.2}x the time of {slices}); slicing is {:.2}x faster",
             2 * slices,
@@ -129,6 +139,19 @@ fn main() -> ExitCode {
         "voxels that differ between slicing and sampling: {differ} of {}",
         u64::from(size) * u64::from(size) * u64::from(slices)
     );
+    if reps > 1 {
+        let mut times = vec![[ta, tb, tc, td]];
+        for _ in 1..reps {
+            let t = |n, sample| run(n, sample).1;
+            let d = if sample_2n {
+                t(2 * slices, true)
+            } else {
+                f64::NAN
+            };
+            times.push([t(slices, false), t(2 * slices, false), t(slices, true), d]);
+        }
+        print_table(&times, slices, sample_2n);
+    }
     if let Some(dir) = out {
         if let Err(e) = a.write_png_stack(&dir, &scene) {
             eprintln!("slice: writing {}: {e}", dir.display());
@@ -136,6 +159,52 @@ fn main() -> ExitCode {
         }
     }
     ExitCode::SUCCESS
+}
+
+/// The Markdown table of `--reps`: min/median/max over the repetitions of
+/// each time `[slicing N, slicing 2N, sampling N, sampling 2N]` and of the
+/// ratios taken within each repetition.
+fn print_table(times: &[[f64; 4]], n: u32, sample_2n: bool) {
+    let row = |name: String, f: &dyn Fn(&[f64; 4]) -> f64| {
+        let mut v: Vec<f64> = times.iter().map(f).collect();
+        v.sort_by(f64::total_cmp);
+        let med = if v.len() % 2 == 1 {
+            v[v.len() / 2]
+        } else {
+            0.5 * (v[v.len() / 2 - 1] + v[v.len() / 2])
+        };
+        println!(
+            "| {name} | {:.2} | {med:.2} | {:.2} |",
+            v[0],
+            v[v.len() - 1]
+        );
+    };
+    println!(
+        "\n{} repetitions (CPU seconds of the thread; ratios within each repetition):\n",
+        times.len()
+    );
+    println!("| figure | min | median | max |\n| --- | --: | --: | --: |");
+    row(format!("slicing, {n} slices (s)"), &|t| t[0]);
+    row(format!("slicing, {} slices (s)", 2 * n), &|t| t[1]);
+    row(format!("per-voxel sampling, {n} slices (s)"), &|t| t[2]);
+    if sample_2n {
+        row(format!("per-voxel sampling, {} slices (s)", 2 * n), &|t| {
+            t[3]
+        });
+    }
+    row(
+        format!("slicing {} / {n} slices (time ratio)", 2 * n),
+        &|t| t[1] / t[0],
+    );
+    row(format!("sampling / slicing, {n} slices (speed-up)"), &|t| {
+        t[2] / t[0]
+    });
+    if sample_2n {
+        row(
+            format!("sampling / slicing, {} slices (speed-up)", 2 * n),
+            &|t| t[3] / t[1],
+        );
+    }
 }
 
 /// The CPU time of the calling thread in seconds (Linux

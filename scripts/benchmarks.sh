@@ -20,6 +20,8 @@
 #
 # Sections:
 #   stats             per-scene tables (scripts/stats-tables.sh; long run)
+#   slicing           thesis Table 2.1: slicing vs per-voxel sampling,
+#                     scalis-foam 512x512, 512/1024 slices, 3 repetitions
 #   fidget-heightmap  fidget's heightmap vs our first-hit depth image
 #                     (crates/bench-fidget, outside the workspace)
 #   fidget-intervals  interval containment: ours vs fidget
@@ -31,7 +33,7 @@ set -euo pipefail
 
 cd "$(dirname "$0")/.."
 DOC=BENCHMARKS.md
-ALL=(stats fidget-heightmap fidget-intervals criterion)
+ALL=(stats slicing fidget-heightmap fidget-intervals criterion)
 QUICK=0
 DRY=0
 ONLY=""
@@ -56,6 +58,12 @@ command_of() {
     case "$1" in
         stats)
             if [ "$QUICK" = 1 ]; then echo "scripts/stats-tables.sh --quick"; else echo "scripts/stats-tables.sh"; fi ;;
+        slicing)
+            if [ "$QUICK" = 1 ]; then
+                echo "cargo run --release --quiet --example slice -- --scene scalis-foam --size 128 --slices 128 --sample-2n --reps 2"
+            else
+                echo "cargo run --release --quiet --example slice -- --scene scalis-foam --size 512 --slices 512 --sample-2n --reps 3"
+            fi ;;
         fidget-heightmap)
             if [ "$QUICK" = 1 ]; then
                 echo "$FIDGET heightmap --scenes aggregate-1,aggregate-2,examples/scenes/primitives.json --size 64 --threads 1 --reps 2"
