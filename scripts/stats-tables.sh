@@ -7,13 +7,14 @@
 # RAYS (default 2000) rays per scene; the large aggregates get fewer (their
 # full-tree methods and dense reference cost seconds per ray): RAYS_FOR
 # overrides the per-scene counts. Set CARGO_TARGET_DIR to reuse a build.
-# `--quick`: 100 rays per scene (2 on the largest aggregates), to try it.
+# `--quick`: 30 rays per scene (fewer on `molecule` and the largest
+# aggregates), to try it; never commit its numbers.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 if [ "${1:-}" = "--quick" ]; then
-    RAYS=100
-    RAYS_FOR="aggregate-3=4,aggregate-3-smooth=4,aggregate-4=2,aggregate-4-smooth=2"
+    RAYS=30
+    RAYS_FOR="molecule=5,aggregate-3=2,aggregate-3-smooth=2,aggregate-4=1,aggregate-4-smooth=1"
 elif [ $# -gt 0 ]; then
     echo "usage: scripts/stats-tables.sh [--quick]" >&2
     exit 2
