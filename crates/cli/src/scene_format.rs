@@ -53,7 +53,7 @@ use boundtrace_fields::sdf::{Primitive, PrimitiveKind};
 use boundtrace_fields::{Blobs, FieldError, Kernel, KernelKind, PointBlob};
 use boundtrace_ia_core::Real;
 use boundtrace_inclusion::Field;
-use boundtrace_tracer::scenes::{Scene, SceneField, WithLipschitz};
+use boundtrace_tracer::scenes::{Scene, SceneField, WithLipschitz, rotate};
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
 use std::fmt;
@@ -1134,21 +1134,6 @@ fn compose(outer: ([f64; 4], [f64; 3]), inner: ([f64; 4], [f64; 3])) -> ([f64; 4
     ];
     let t = rotate(a, inner.1);
     (q, [0, 1, 2].map(|k| t[k] + outer.1[k]))
-}
-
-fn rotate(q: [f64; 4], v: [f64; 3]) -> [f64; 3] {
-    let u = [q[0], q[1], q[2]];
-    let w = q[3];
-    let cross = |a: [f64; 3], b: [f64; 3]| {
-        [
-            a[1] * b[2] - a[2] * b[1],
-            a[2] * b[0] - a[0] * b[2],
-            a[0] * b[1] - a[1] * b[0],
-        ]
-    };
-    let t = cross(u, v).map(|x| 2.0 * x);
-    let c = cross(u, t);
-    [0, 1, 2].map(|k| v[k] + w * t[k] + c[k])
 }
 
 type Placement = Option<([f64; 4], [f64; 3])>;

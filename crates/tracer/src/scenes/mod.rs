@@ -117,6 +117,7 @@ mod aggregate;
 mod blobs;
 mod hrbf;
 mod rng;
+pub use rng::rotate;
 mod scalis;
 
 use boundtrace_fields::blobtree::FlatBlobtree;

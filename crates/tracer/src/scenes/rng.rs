@@ -76,8 +76,9 @@ pub(crate) fn normalize(a: [f64; 3]) -> [f64; 3] {
     if n > 0.0 { a.map(|x| x / n) } else { a }
 }
 
-/// Rotates `v` by the unit quaternion `q = [x, y, z, w]`.
-pub(crate) fn rotate(q: [f64; 4], v: [f64; 3]) -> [f64; 3] {
+/// Rotates `v` by the unit quaternion `q = [x, y, z, w]` (used by the
+/// scene generators and by scene files' transforms).
+pub fn rotate(q: [f64; 4], v: [f64; 3]) -> [f64; 3] {
     let u = [q[0], q[1], q[2]];
     let w = q[3];
     let cross = |a: [f64; 3], b: [f64; 3]| {
