@@ -173,14 +173,16 @@ fn check_degree(n: u32) -> Result<u32, FieldError> {
 #[cfg_attr(not(target_arch = "spirv"), inline)]
 fn half_pow<T: Real, N: FieldNum<T>>(x: N, e: u32) -> N {
     if e == 0 {
-        N::constant(T::ONE)
-    } else if e % 2 == 0 {
-        if e == 2 { x } else { x.powi((e / 2) as i32) }
-    } else if e == 1 {
-        x.sqrt()
-    } else {
-        x.sqrt().powi(e as i32)
+        return N::constant(T::ONE);
     }
+    // x^{e/2} = x^{e/2} (even e) or (√x)^e (odd e); one `powi` call site
+    // (a GPU driver inlines every call: BENCHMARKS.md "GPU").
+    let (base, k) = if e % 2 == 0 {
+        (x, e / 2)
+    } else {
+        (x.sqrt(), e)
+    };
+    if k == 1 { base } else { base.powi(k as i32) }
 }
 
 /// Which side of the compact support boundary `u = 1` a number lies on.
@@ -311,50 +313,47 @@ impl<T: Real> Kernel<T> {
         let nf = T::from_f64(f64::from(n));
         let two = T::TWO;
         let four = T::from_f64(4.0);
-        match self.kind {
+        // Every family but the Gaussian is `c · base^{e/2}`; the power and
+        // the product are written once (a GPU driver inlines every call:
+        // BENCHMARKS.md "GPU").
+        let (base, e2, c) = match self.kind {
+            KernelKind::Gaussian => {
+                let p = (-u).exp();
+                return if j == 1 { -p } else { p };
+            }
             KernelKind::Compact => {
-                let w = u.one_minus_clamped();
                 // K^{(j)} = (−1)^j m(m−1)…(m−j+1) (1−u)^{m−j}.
                 let (c, e2) = match j {
                     0 => (T::ONE, n as i64),
                     1 => (-(nf / two), n as i64 - 2),
                     _ => (nf * (nf - two) / four, n as i64 - 4),
                 };
-                let p = match e2 {
-                    e if e >= 0 => half_pow::<T, N>(w, e as u32),
-                    // n = 3, j = 2: (1 − u)^{−1/2}.
-                    -1 => w.sqrt().recip(),
-                    // n = 2, j = 2: K'' = 0 inside (m(m − 1) = 0).
-                    _ => return N::constant(T::ZERO),
-                };
-                if j == 0 { p } else { p * c }
+                (u.one_minus_clamped(), e2, c)
             }
-            KernelKind::Cauchy => {
-                // K^{(j)} = (−1)^j m(m+1)…(m+j−1) (1+u)^{−m−j}.
-                let r = (u + T::ONE).recip();
+            // Cauchy: K^{(j)} = (−1)^j m(m+1)…(m+j−1) (1+u)^{−m−j};
+            // inverse: the same with u^{−m−j}.
+            KernelKind::Cauchy | KernelKind::Inverse => {
                 let c = match j {
                     0 => T::ONE,
                     1 => -(nf / two),
                     _ => nf * (nf + two) / four,
                 };
-                let p = half_pow::<T, N>(r, n + 2 * j);
-                if j == 0 { p } else { p * c }
-            }
-            KernelKind::Gaussian => {
-                let p = (-u).exp();
-                if j == 1 { -p } else { p }
-            }
-            KernelKind::Inverse => {
-                let r = u.recip();
-                let c = match j {
-                    0 => T::ONE,
-                    1 => -(nf / two),
-                    _ => nf * (nf + two) / four,
+                let v = if self.kind == KernelKind::Cauchy {
+                    u + T::ONE
+                } else {
+                    u
                 };
-                let p = half_pow::<T, N>(r, n + 2 * j);
-                if j == 0 { p } else { p * c }
+                (v.recip(), i64::from(n + 2 * j), c)
             }
-        }
+        };
+        let p = match e2 {
+            e if e >= 0 => half_pow::<T, N>(base, e as u32),
+            // Compact, n = 3, j = 2: (1 − u)^{−1/2}.
+            -1 => base.sqrt().recip(),
+            // Compact, n = 2, j = 2: K'' = 0 inside (m(m − 1) = 0).
+            _ => return N::constant(T::ZERO),
+        };
+        if j == 0 { p } else { p * c }
     }
 
     /// `K^{(j)}(u)` with the compact support handled: `0` for `u ≥ 1`, the
@@ -362,19 +361,22 @@ impl<T: Real> Kernel<T> {
     /// the clamped polynomial is not already `0` there.
     #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn profile<N: FieldNum<T>>(&self, u: N, j: u32) -> N {
-        if self.kind == KernelKind::Compact && matches!(side::<T, N>(&u), Side::Outside) {
+        let compact = self.kind == KernelKind::Compact;
+        if compact && matches!(side::<T, N>(&u), Side::Outside) {
             // Exactly 0 (also keeps jets of √ at 0 from producing NaN).
             return N::constant(T::ZERO);
         }
-        if self.kind == KernelKind::Compact && self.degree < 2 * j + 1 {
-            // (1 − u)^{m − j} with m − j ≤ 0: a jump or a pole at u = 1.
-            return match side::<T, N>(&u) {
-                Side::Inside => self.profile_inside(u, j),
-                Side::Outside => N::constant(T::ZERO),
-                Side::Both => self.profile_inside(u, j).join(N::constant(T::ZERO)),
-            };
+        // (1 − u)^{m − j} with m − j ≤ 0: a jump or a pole at u = 1, so an
+        // enclosure straddling it also takes the outside value 0. (One call
+        // of `profile_inside`: see `half_pow`.)
+        let jump = compact && self.degree < 2 * j + 1;
+        let straddles = jump && matches!(side::<T, N>(&u), Side::Both);
+        let p = self.profile_inside(u, j);
+        if straddles {
+            p.join(N::constant(T::ZERO))
+        } else {
+            p
         }
-        self.profile_inside(u, j)
     }
 
     /// `K(u)`, the kernel as a function of the normalized squared distance

@@ -5,8 +5,8 @@ use core::ops::{Add, Div, Mul, Neg, Sub};
 use crate::Real;
 use crate::math::TRANSCENDENTAL_ULPS;
 use crate::round::{
-    add_down, add_up, div_down, div_up, mul_down, mul_up, powu_down, powu_up, sqrt_down, sqrt_up,
-    sub_down, sub_up,
+    add_down, add_up, div_down, div_up, mul_down, mul_up, powu_dir, sqrt_down, sqrt_up, sub_down,
+    sub_up,
 };
 
 /// A closed interval `[lo, hi]` of real numbers, or the empty set.
@@ -310,39 +310,53 @@ impl<T: Real> Interval<T> {
             return Self::point(T::ONE);
         }
         let m = n.unsigned_abs();
-        if n > 0 {
-            return self.powu(m);
+        // n > 0: x^m. n < 0: two sound enclosures of x^−m, intersected:
+        // 1/(x^m) is the right shape when 0 ∈ x, (1/x)^m stays tight when
+        // x^m overflows (the second only when 0 ∉ x). One power call (see
+        // `mul`).
+        let rounds = if n < 0 && self.mig() > T::ZERO { 2 } else { 1 };
+        let mut r = self;
+        let mut i = 0;
+        while i < rounds {
+            let base = if i == 0 { self } else { self.recip() };
+            let p = base.powu(m);
+            r = if i == 0 {
+                if n < 0 { p.recip() } else { p }
+            } else {
+                r.intersection(p)
+            };
+            i += 1;
         }
-        // Two sound enclosures of x^−m, intersected: 1/(x^m) is the right
-        // shape when 0 ∈ x, (1/x)^m stays tight when x^m overflows.
-        let p = self.powu(m).recip();
-        if self.mig() > T::ZERO {
-            p.intersection(self.recip().powu(m))
-        } else {
-            p
-        }
+        r
     }
 
     /// `x^m` for `m ≥ 1` by binary powering of the bounds.
     #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn powu(self, m: u32) -> Self {
-        if m % 2 == 0 {
-            // Even: |x|^m on [mig, mag].
-            Self::raw(powu_down(self.mig(), m), powu_up(self.mag(), m))
+        // Even: |x|^m on [mig, mag]. Odd: increasing, x^m = −(|x|^m) for
+        // x < 0. One power per bound (see `mul`).
+        let (lo, hi) = if m % 2 == 0 {
+            (self.mig(), self.mag())
         } else {
-            // Odd: increasing; x^m = −(|x|^m) for x < 0.
-            let lo = if self.lo < T::ZERO {
-                -powu_up(-self.lo, m)
+            (self.lo, self.hi)
+        };
+        let (mut out_lo, mut out_hi) = (lo, hi);
+        let mut i = 0;
+        while i < 2 {
+            let v = if i == 0 { lo } else { hi };
+            // Round the magnitude down for the lower bound of a
+            // non-negative value and for the upper bound of a negative one.
+            let up = (i == 1) == (v >= T::ZERO);
+            let p = powu_dir(v.abs(), m, up);
+            let b = if v < T::ZERO { -p } else { p };
+            if i == 0 {
+                out_lo = b;
             } else {
-                powu_down(self.lo, m)
-            };
-            let hi = if self.hi < T::ZERO {
-                -powu_down(-self.hi, m)
-            } else {
-                powu_up(self.hi, m)
-            };
-            Self::raw(lo, hi)
+                out_hi = b;
+            }
+            i += 1;
         }
+        Self::raw(out_lo, out_hi)
     }
 
     /// `x^p` for a real exponent `p` (IEEE 1788 `pow` with a point exponent).
@@ -670,41 +684,38 @@ impl<T: Real> Mul for Interval<T> {
         }
         let pos = |k: Class| k == P0 || k == P1;
         let neg = |k: Class| k == N0 || k == N1;
-        let (lo, hi) = if pos(x) {
+        // The operands of the lower and the upper bound by cell; each
+        // product is written once (a GPU driver inlines every call, so the
+        // number of call sites is the shader's size: BENCHMARKS.md "GPU").
+        let (lo_ops, hi_ops) = if pos(x) {
             if pos(y) {
-                // P * P => [a*c, b*d]
-                (mul_down(a, c), mul_up(b, d))
+                ((a, c), (b, d)) // P * P => [a*c, b*d]
             } else if neg(y) {
-                // P * N => [b*c, a*d]
-                (mul_down(b, c), mul_up(a, d))
+                ((b, c), (a, d)) // P * N => [b*c, a*d]
             } else {
-                // P * M => [b*c, b*d]
-                (mul_down(b, c), mul_up(b, d))
+                ((b, c), (b, d)) // P * M => [b*c, b*d]
             }
         } else if neg(x) {
             if pos(y) {
-                // N * P => [a*d, b*c]
-                (mul_down(a, d), mul_up(b, c))
+                ((a, d), (b, c)) // N * P => [a*d, b*c]
             } else if neg(y) {
-                // N * N => [b*d, a*c]
-                (mul_down(b, d), mul_up(a, c))
+                ((b, d), (a, c)) // N * N => [b*d, a*c]
             } else {
-                // N * M => [a*d, a*c]
-                (mul_down(a, d), mul_up(a, c))
+                ((a, d), (a, c)) // N * M => [a*d, a*c]
             }
         } else if pos(y) {
-            // M * P => [a*d, b*d]
-            (mul_down(a, d), mul_up(b, d))
+            ((a, d), (b, d)) // M * P => [a*d, b*d]
         } else if neg(y) {
-            // M * N => [b*c, a*c]
-            (mul_down(b, c), mul_up(a, c))
+            ((b, c), (a, c)) // M * N => [b*c, a*c]
         } else {
-            // M * M => [min(a*d, b*c), max(a*c, b*d)]
-            (
-                mul_down(a, d).min(mul_down(b, c)),
-                mul_up(a, c).max(mul_up(b, d)),
-            )
+            ((a, d), (a, c)) // M * M => [min(a*d, b*c), max(a*c, b*d)]
         };
+        let mut lo = mul_down(lo_ops.0, lo_ops.1);
+        let mut hi = mul_up(hi_ops.0, hi_ops.1);
+        if !pos(x) && !neg(x) && !pos(y) && !neg(y) {
+            lo = lo.min(mul_down(b, c));
+            hi = hi.max(mul_up(b, d));
+        }
         Self::raw(lo, hi)
     }
 }
@@ -741,28 +752,40 @@ impl<T: Real> Div for Interval<T> {
         if x == Z {
             return Self::point(T::ZERO);
         }
+        // Each bound is a quotient `n / m` or a constant; the quotients are
+        // written once (see `mul`).
         let (inf, ninf, zero) = (T::INFINITY, T::NEG_INFINITY, T::ZERO);
+        let q = |n: T, m: T| (n, m, None);
+        let k = |v: T| (zero, T::ONE, Some(v));
         let (lo, hi) = match (x, y) {
             // y > 0
-            (P0 | P1, P1) => (div_down(a, d), div_up(b, c)),
-            (M, P1) => (div_down(a, c), div_up(b, c)),
-            (N0 | N1, P1) => (div_down(a, c), div_up(b, d)),
+            (P0 | P1, P1) => (q(a, d), q(b, c)),
+            (M, P1) => (q(a, c), q(b, c)),
+            (N0 | N1, P1) => (q(a, c), q(b, d)),
             // y < 0
-            (P0 | P1, N1) => (div_down(b, d), div_up(a, c)),
-            (M, N1) => (div_down(b, d), div_up(a, d)),
-            (N0 | N1, N1) => (div_down(b, c), div_up(a, d)),
+            (P0 | P1, N1) => (q(b, d), q(a, c)),
+            (M, N1) => (q(b, d), q(a, d)),
+            (N0 | N1, N1) => (q(b, c), q(a, d)),
             // y = [0, d]
-            (P1, P0) => (div_down(a, d), inf),
-            (P0, P0) => (zero, inf),
-            (N0, P0) => (ninf, zero),
-            (N1, P0) => (ninf, div_up(b, d)),
+            (P1, P0) => (q(a, d), k(inf)),
+            (P0, P0) => (k(zero), k(inf)),
+            (N0, P0) => (k(ninf), k(zero)),
+            (N1, P0) => (k(ninf), q(b, d)),
             // y = [c, 0]
-            (P1, N0) => (ninf, div_up(a, c)),
-            (P0, N0) => (ninf, zero),
-            (N0, N0) => (zero, inf),
-            (N1, N0) => (div_down(b, c), inf),
+            (P1, N0) => (k(ninf), q(a, c)),
+            (P0, N0) => (k(ninf), k(zero)),
+            (N0, N0) => (k(zero), k(inf)),
+            (N1, N0) => (q(b, c), k(inf)),
             // y straddles 0, or x straddles 0 and y touches it
-            _ => (ninf, inf),
+            _ => (k(ninf), k(inf)),
+        };
+        let lo = match lo.2 {
+            Some(v) => v,
+            None => div_down(lo.0, lo.1),
+        };
+        let hi = match hi.2 {
+            Some(v) => v,
+            None => div_up(hi.0, hi.1),
         };
         Self::raw(lo, hi)
     }

@@ -156,35 +156,62 @@ pub fn sqrt_up<T: Real>(a: T) -> T {
 /// relative error, so the bound is within a factor `(1 + ε_mach)^(n−1)`.
 #[cfg_attr(not(target_arch = "spirv"), inline)]
 pub fn powu_down<T: Real>(x: T, n: u32) -> T {
-    powu::<T, false>(x, n)
+    powu_dir(x, n, false)
 }
 
 /// `x^n` for `x ≥ 0`, rounded up: binary powering with [`mul_up`].
 #[cfg_attr(not(target_arch = "spirv"), inline)]
 pub fn powu_up<T: Real>(x: T, n: u32) -> T {
-    powu::<T, true>(x, n)
+    powu_dir(x, n, true)
 }
 
+/// [`mul_down`] (`up = false`) or [`mul_up`] (`up = true`), with a single
+/// call of [`mul_down`] (`mul_up(a, b) = −mul_down(−a, b)`; the sign flips
+/// are exact): callers that need both directions call it from one place,
+/// which keeps the shader small once a GPU driver inlines every call
+/// (BENCHMARKS.md "GPU").
 #[cfg_attr(not(target_arch = "spirv"), inline)]
-fn powu<T: Real, const UP: bool>(x: T, mut n: u32) -> T {
-    // A const generic instead of a function pointer: SPIR-V has no indirect calls.
-    let mul = |a, b| if UP { mul_up(a, b) } else { mul_down(a, b) };
+pub(crate) fn mul_dir<T: Real>(a: T, b: T, up: bool) -> T {
+    let s = if up { -T::ONE } else { T::ONE };
+    s * mul_down(s * a, b)
+}
+
+/// `x^n` for `x ≥ 0`, rounded down (`up = false`) or up: binary powering
+/// with one directed product per step (see [`mul_dir`]).
+#[cfg_attr(not(target_arch = "spirv"), inline)]
+pub(crate) fn powu_dir<T: Real>(x: T, mut n: u32, up: bool) -> T {
     if n == 0 {
         return T::ONE;
     }
     let mut base = x;
     let mut acc = T::ONE;
     let mut have = false;
+    // Binary powering with one product per iteration (`acc · base` when
+    // the current bit of `n` is pending, else the squaring `base · base`),
+    // so the product is written once.
+    let mut pending = n & 1 == 1;
     loop {
-        if n & 1 == 1 {
-            acc = if have { mul(acc, base) } else { base };
+        if pending && !have {
+            acc = base;
             have = true;
+            pending = false;
         }
-        n >>= 1;
-        if n == 0 {
-            break;
+        let into_acc = pending;
+        if !into_acc {
+            n >>= 1;
+            if n == 0 {
+                break;
+            }
         }
-        base = mul(base, base);
+        let (x, y) = if into_acc { (acc, base) } else { (base, base) };
+        let p = mul_dir(x, y, up);
+        if into_acc {
+            acc = p;
+            pending = false;
+        } else {
+            base = p;
+            pending = n & 1 == 1;
+        }
     }
     // The exact power is ≥ 0; a stepped-down tiny product may be −0⁺.
     acc.max(T::ZERO)

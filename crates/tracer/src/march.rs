@@ -665,7 +665,7 @@ pub(crate) fn march<T: Real, F: Field<T>>(
 /// kept only when the unbounding intervals at both ends overlap (so the
 /// whole step is proven root-free); otherwise the marcher falls back to the
 /// safe step `r` and stops over-relaxing for this ray.
-fn sphere<T: Real, F: Field<T>>(
+pub(crate) fn sphere<T: Real, F: Field<T>>(
     field: &F,
     ray: &Ray<T>,
     span: [T; 2],
@@ -817,6 +817,44 @@ mod tests {
                 buf[1].t
             );
             assert_eq!(buf[1].side, Side::Leaving);
+        }
+    }
+
+    #[test]
+    fn sphere_entry_matches_the_dispatch() {
+        use crate::trace::{trace_in, trace_sphere_in};
+        let p = Params::new();
+        for (ray, mode) in [
+            (Ray::new([-3.0, 0.1, 0.0], [1.0, 0.0, 0.0]), Mode::Opaque),
+            (
+                Ray::new([-3.0, 0.3, 0.2], [1.0, 0.1, 0.0]),
+                Mode::Transparent,
+            ),
+            (
+                Ray::new([-3.0, 1.5, 0.0], [1.0, 0.0, 0.0]),
+                Mode::Transparent,
+            ),
+        ] {
+            for (span, window) in [
+                ([0.0, 6.0], [1, 2]),
+                ([0.0, 6.0], [3, 2]),
+                ([2.0, 1.0], [0, 2]),
+            ] {
+                let (mut a, mut b) = ([NONE; 4], [NONE; 4]);
+                let ta = trace_in(
+                    &Ball(1.0),
+                    &ray,
+                    span,
+                    Method::Sphere,
+                    mode,
+                    &p,
+                    &mut a,
+                    window,
+                );
+                let tb = trace_sphere_in(&Ball(1.0), &ray, span, mode, &p, &mut b, window);
+                assert_eq!(ta, tb);
+                assert_eq!(format!("{a:?}"), format!("{b:?}"));
+            }
         }
     }
 

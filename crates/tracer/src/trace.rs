@@ -157,17 +157,11 @@ pub fn trace_in<T: Real, F: Field<T>>(
     roots: &mut [Root<T>],
     window: [usize; 2],
 ) -> Trace<T> {
-    let unsupported = Trace {
-        roots: 0,
-        status: Status::Unsupported,
-        t_reached: span[0],
-        stats: RayStats::default(),
-    };
-    let [base, len] = window;
-    let fits = len > 0 && base <= roots.len() && len <= roots.len() - base;
-    if !params.is_valid() || !(span[0] <= span[1]) || !fits {
+    let unsupported = unsupported_trace(span);
+    if !accepts(span, params, roots.len(), window) {
         return unsupported;
     }
+    let [base, len] = window;
     let slots = march::RootSlots {
         buf: roots,
         base,
@@ -191,6 +185,50 @@ pub fn trace_in<T: Real, F: Field<T>>(
         Method::ScalisQuadratic => unsupported,
         _ => march::march(field, ray, span, method, mode, params, slots),
     }
+}
+
+/// The record of a ray that is not traced ([`Status::Unsupported`]).
+fn unsupported_trace<T: Real>(span: [T; 2]) -> Trace<T> {
+    Trace {
+        roots: 0,
+        status: Status::Unsupported,
+        t_reached: span[0],
+        stats: RayStats::default(),
+    }
+}
+
+/// Whether [`trace_in`] traces at all: valid parameters, an ordered span
+/// and a non-empty root window inside the buffer.
+fn accepts<T: Real>(span: [T; 2], params: &Params<T>, buf_len: usize, window: [usize; 2]) -> bool {
+    let [base, len] = window;
+    let fits = len > 0 && base <= buf_len && len <= buf_len - base;
+    params.is_valid() && span[0] <= span[1] && fits
+}
+
+/// [`trace_in`] with [`Method::Sphere`]: the same sphere tracer, reached
+/// without the method dispatch, so that a caller (the GPU shader's
+/// `trace_sphere` entry point) links sphere tracing alone. A GPU driver
+/// inlines every call, so linking every method costs orders of magnitude
+/// more code than this one (BENCHMARKS.md "GPU").
+pub fn trace_sphere_in<T: Real, F: Field<T>>(
+    field: &F,
+    ray: &Ray<T>,
+    span: [T; 2],
+    mode: Mode,
+    params: &Params<T>,
+    roots: &mut [Root<T>],
+    window: [usize; 2],
+) -> Trace<T> {
+    if !accepts(span, params, roots.len(), window) {
+        return unsupported_trace(span);
+    }
+    let [base, len] = window;
+    let slots = march::RootSlots {
+        buf: roots,
+        base,
+        len,
+    };
+    march::sphere(field, ray, span, mode, params, slots)
 }
 
 /// The first root of `ray` on `span` (opaque mode), with the trace record.
