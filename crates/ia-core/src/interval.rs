@@ -48,6 +48,15 @@ pub struct Interval<T> {
     hi: T,
 }
 
+/// `v^m` (odd `m`, or `v ≥ 0`) rounded down (`upper = false`) or up: the
+/// magnitude's power rounded toward zero for the lower bound of a
+/// non-negative value and for the upper bound of a negative one.
+#[cfg_attr(not(target_arch = "spirv"), inline)]
+fn pow_bound<T: Real>(v: T, m: u32, upper: bool) -> T {
+    let p = powu_dir(v.abs(), m, upper == (v >= T::ZERO));
+    if v < T::ZERO { -p } else { p }
+}
+
 impl<T: Real> Default for Interval<T> {
     /// The empty interval.
     fn default() -> Self {
@@ -310,21 +319,19 @@ impl<T: Real> Interval<T> {
             return Self::point(T::ONE);
         }
         let m = n.unsigned_abs();
-        // n > 0: x^m. n < 0: two sound enclosures of x^−m, intersected:
-        // 1/(x^m) is the right shape when 0 ∈ x, (1/x)^m stays tight when
-        // x^m overflows (the second only when 0 ∉ x). One power call (see
-        // `mul`).
-        let rounds = if n < 0 && self.mig() > T::ZERO { 2 } else { 1 };
+        if n > 0 {
+            return self.powu(m);
+        }
+        // Two sound enclosures of x^−m, intersected: 1/(x^m) is the right
+        // shape when 0 ∈ x, (1/x)^m stays tight when x^m overflows (the
+        // second only when 0 ∉ x). One power call site (see `mul`).
+        let rounds = if self.mig() > T::ZERO { 2 } else { 1 };
         let mut r = self;
         let mut i = 0;
         while i < rounds {
             let base = if i == 0 { self } else { self.recip() };
             let p = base.powu(m);
-            r = if i == 0 {
-                if n < 0 { p.recip() } else { p }
-            } else {
-                r.intersection(p)
-            };
+            r = if i == 0 { p.recip() } else { r.intersection(p) };
             i += 1;
         }
         r
@@ -334,29 +341,13 @@ impl<T: Real> Interval<T> {
     #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn powu(self, m: u32) -> Self {
         // Even: |x|^m on [mig, mag]. Odd: increasing, x^m = −(|x|^m) for
-        // x < 0. One power per bound (see `mul`).
+        // x < 0.
         let (lo, hi) = if m % 2 == 0 {
             (self.mig(), self.mag())
         } else {
             (self.lo, self.hi)
         };
-        let (mut out_lo, mut out_hi) = (lo, hi);
-        let mut i = 0;
-        while i < 2 {
-            let v = if i == 0 { lo } else { hi };
-            // Round the magnitude down for the lower bound of a
-            // non-negative value and for the upper bound of a negative one.
-            let up = (i == 1) == (v >= T::ZERO);
-            let p = powu_dir(v.abs(), m, up);
-            let b = if v < T::ZERO { -p } else { p };
-            if i == 0 {
-                out_lo = b;
-            } else {
-                out_hi = b;
-            }
-            i += 1;
-        }
-        Self::raw(out_lo, out_hi)
+        Self::raw(pow_bound(lo, m, false), pow_bound(hi, m, true))
     }
 
     /// `x^p` for a real exponent `p` (IEEE 1788 `pow` with a point exponent).

@@ -114,6 +114,40 @@ macro_rules! impl_real {
                 }
             }
 
+            /// Loop-free (llvmpipe caps the loop iterations of a shader
+            /// invocation: BENCHMARKS.md "GPU"): `n` steps at once along the
+            /// order of the floats, the same value as `n` calls of
+            /// [`next_up`](Real::next_up).
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
+            fn next_up_n(self, n: u32) -> Self {
+                if n == 0 || self.is_nan() || self == $t::INFINITY {
+                    return self;
+                }
+                let n = <$bits>::from(n);
+                let sign = 1 << ($bits::BITS - 1);
+                let inf = $t::INFINITY.to_bits();
+                let mag = self.to_bits() & !sign;
+                if !(self < 0.0) {
+                    // ±0 or positive: the magnitude grows (from ±0 to the
+                    // least subnormal), saturating at +∞.
+                    return if n >= inf - mag {
+                        $t::INFINITY
+                    } else {
+                        $t::from_bits(mag + n)
+                    };
+                }
+                // Negative: the magnitude shrinks to −0, then grows past it.
+                if n < mag {
+                    $t::from_bits(sign | (mag - n))
+                } else if n == mag {
+                    -0.0
+                } else if n - mag >= inf {
+                    $t::INFINITY
+                } else {
+                    $t::from_bits(n - mag)
+                }
+            }
+
             #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn significant_bits(self) -> u32 {
                 const FRAC: u32 = $t::MANTISSA_DIGITS - 1;
@@ -152,6 +186,62 @@ impl_real!(f64, u64);
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The reference: `n` single steps.
+    fn stepped<T: Real>(x: T, n: u32) -> T {
+        let mut y = x;
+        for _ in 0..n {
+            y = y.next_up();
+        }
+        y
+    }
+
+    #[test]
+    fn next_up_n_equals_repeated_next_up() {
+        let f32s = [
+            0.0f32,
+            -0.0,
+            f32::from_bits(1),
+            -f32::from_bits(1),
+            -f32::from_bits(3),
+            f32::MIN_POSITIVE,
+            -f32::MIN_POSITIVE,
+            1.0,
+            -1.0,
+            -1.5e-30,
+            3.7e12,
+            f32::MAX,
+            -f32::MAX,
+            f32::from_bits(0x7f7f_fffd),
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+        ];
+        for x in f32s {
+            for n in [0, 1, 2, 3, 4, 5, 8, 9] {
+                let (a, b) = (x.next_up_n(n), stepped(x, n));
+                assert_eq!(a.to_bits(), b.to_bits(), "{x:e} up {n}: {a:e} vs {b:e}");
+                let (a, b) = (x.next_down_n(n), -stepped(-x, n));
+                assert_eq!(a.to_bits(), b.to_bits(), "{x:e} down {n}: {a:e} vs {b:e}");
+            }
+        }
+        for x in [
+            0.0f64,
+            -0.0,
+            -f64::from_bits(2),
+            1.0,
+            -2.5,
+            f64::MAX,
+            f64::NEG_INFINITY,
+        ] {
+            for n in [0, 1, 2, 3, 7] {
+                let (a, b) = (x.next_up_n(n), stepped(x, n));
+                assert_eq!(a.to_bits(), b.to_bits(), "{x:e} up {n}");
+            }
+        }
+        assert!(f32::NAN.next_up_n(3).is_nan());
+        assert_eq!(f32::from_bits(1).next_up_n(u32::MAX), f32::INFINITY);
+        assert_eq!((-f32::from_bits(1)).next_up_n(u32::MAX), f32::INFINITY);
+    }
 
     #[test]
     fn next_up_down_special_values() {

@@ -177,18 +177,57 @@ pub(crate) fn mul_dir<T: Real>(a: T, b: T, up: bool) -> T {
 }
 
 /// `x^n` for `x ≥ 0`, rounded down (`up = false`) or up: binary powering
-/// with one directed product per step (see [`mul_dir`]).
+/// with directed products ([`mul_dir`]).
+///
+/// Loop-free for `n < 16` (the exponents of the kernels): llvmpipe caps
+/// the loop iterations of a whole shader invocation (65,535, shared by
+/// every loop), which a loop per power would exhaust within a few dozen
+/// sphere-tracing steps (BENCHMARKS.md "GPU"). Larger `n` use the loop of
+/// [`powu_loop`], with the same products in the same order.
 #[cfg_attr(not(target_arch = "spirv"), inline)]
-pub(crate) fn powu_dir<T: Real>(x: T, mut n: u32, up: bool) -> T {
+pub(crate) fn powu_dir<T: Real>(x: T, n: u32, up: bool) -> T {
     if n == 0 {
         return T::ONE;
     }
+    if n >= 16 {
+        return powu_loop(x, n, up);
+    }
+    let s = (x, T::ONE, false);
+    let s = pow_bit(s, n, 0, up);
+    let s = pow_bit(s, n, 1, up);
+    let s = pow_bit(s, n, 2, up);
+    let s = pow_bit(s, n, 3, up);
+    // The exact power is ≥ 0; a stepped-down tiny product may be −0⁺.
+    s.1.max(T::ZERO)
+}
+
+/// Bit `k` of binary powering: the state `(base, acc, have)` with `base`
+/// squared (bits above the first) and multiplied into `acc` when bit `k`
+/// of `n` is set; unchanged when `n` has no bit at or above `k`.
+#[cfg_attr(not(target_arch = "spirv"), inline)]
+fn pow_bit<T: Real>(state: (T, T, bool), n: u32, k: u32, up: bool) -> (T, T, bool) {
+    let (mut base, mut acc, mut have) = state;
+    if n >> k == 0 {
+        return state;
+    }
+    if k > 0 {
+        base = mul_dir(base, base, up);
+    }
+    if (n >> k) & 1 == 1 {
+        acc = if have { mul_dir(acc, base, up) } else { base };
+        have = true;
+    }
+    (base, acc, have)
+}
+
+/// [`powu_dir`] by a loop with one product per iteration (`acc · base`
+/// when the current bit of `n` is pending, else the squaring `base ·
+/// base`), so the product is written once.
+#[cfg_attr(not(target_arch = "spirv"), inline)]
+fn powu_loop<T: Real>(x: T, mut n: u32, up: bool) -> T {
     let mut base = x;
     let mut acc = T::ONE;
     let mut have = false;
-    // Binary powering with one product per iteration (`acc · base` when
-    // the current bit of `n` is pending, else the squaring `base · base`),
-    // so the product is written once.
     let mut pending = n & 1 == 1;
     loop {
         if pending && !have {
@@ -213,13 +252,40 @@ pub(crate) fn powu_dir<T: Real>(x: T, mut n: u32, up: bool) -> T {
             pending = n & 1 == 1;
         }
     }
-    // The exact power is ≥ 0; a stepped-down tiny product may be −0⁺.
     acc.max(T::ZERO)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn unrolled_powers_equal_the_loop() {
+        for x in [
+            0.0f64,
+            1e-300,
+            0.3,
+            0.999_999_9,
+            1.0,
+            1.1,
+            7.5,
+            1e30,
+            f64::INFINITY,
+        ] {
+            for n in 1..16 {
+                for up in [false, true] {
+                    let (a, b) = (powu_dir(x, n, up), powu_loop(x, n, up));
+                    assert_eq!(a.to_bits(), b.to_bits(), "{x:e}^{n} up {up}");
+                }
+            }
+        }
+        for x in [0.3f32, 1.7, 3.0e5] {
+            for n in 1..16 {
+                assert_eq!(powu_dir(x, n, true), powu_loop(x, n, true), "{x:e}^{n}");
+            }
+        }
+        assert!(powu_down(1.1f64, 40) <= powu_up(1.1f64, 40));
+    }
 
     #[test]
     fn exact_cases_are_not_widened() {
