@@ -30,6 +30,9 @@ fi
 step "cargo test --workspace (GPU difftests included: they fail, never skip, with CI=true)"
 cargo test --workspace
 
+step "boundtrace render --backend gpu (sphere tracing on the GPU; fails, never skips, with CI=true)"
+cargo test -p boundtrace-cli --features gpu --test cli gpu_backend
+
 step "cargo test boundtrace-ia-core, -inclusion, -fields and -tracer with the libm back end"
 cargo test -p boundtrace-ia-core -p boundtrace-inclusion --no-default-features --features libm
 cargo test -p boundtrace-fields --no-default-features --features libm,alloc

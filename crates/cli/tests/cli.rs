@@ -407,6 +407,57 @@ fn gpu_backend_without_gpu_is_a_clear_error() {
     assert_fails(&o, 1, &["GPU backend:"]);
 }
 
+/// With `--features gpu` (CI: `cargo test -p boundtrace-cli --features gpu
+/// --test cli gpu_backend`, on lavapipe): sphere tracing renders a PNG on
+/// the GPU (the shader's `trace_sphere` entry point; its agreement with the
+/// CPU is the GPU crate's difftest), and a method without a GPU entry point
+/// in the module is a clear error with nothing written.
+#[cfg(feature = "gpu")]
+#[test]
+fn gpu_backend_renders_sphere_tracing() {
+    let d = TempDir::new("gpu");
+    let scene = scene_path("blobs.json");
+    let base = [
+        "--method", "sphere", "--size", "24x24", "--output", "depth", "--quiet",
+    ];
+    let gpu_png = d.path("gpu.png");
+    let mut args = vec![
+        "render",
+        scene.as_str(),
+        "-o",
+        gpu_png.as_str(),
+        "--backend",
+        "gpu",
+    ];
+    args.extend(base);
+    let o = run(&args);
+    let err = stderr(&o);
+    let ci = std::env::var("CI").is_ok_and(|v| v == "true" || v == "1");
+    if !o.status.success() && !ci && err.contains("no usable adapter") {
+        eprintln!("\n!!!!!!!! SKIPPING the GPU backend test: {err} !!!!!!!!\n");
+        return;
+    }
+    assert!(o.status.success(), "{err}");
+    let png = std::fs::read(&gpu_png).unwrap();
+    assert!(png.len() > 8 && png[1..4] == *b"PNG", "not a PNG");
+    let no = d.path("no.png");
+    let o = run(&[
+        "render",
+        &scene,
+        "-o",
+        &no,
+        "--backend",
+        "gpu",
+        "--method",
+        "segment",
+        "--size",
+        "8x8",
+    ]);
+    let err = stderr(&o);
+    assert_fails(&o, 1, &["GPU backend:", "segment"]);
+    assert!(!Path::new(&no).exists(), "{err}");
+}
+
 #[test]
 fn scene_check_finds_bounds_that_cut_the_surface() {
     let d = TempDir::new("check");

@@ -19,7 +19,16 @@ fn main() -> ExitCode {
     };
     let out = PathBuf::from(out);
     let shader = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../gpu-shader");
-    let mut builder = SpirvBuilder::new(&shader, "spirv-unknown-vulkan1.1").release(true);
+    // The tracer's shared code (the `trace_sphere` and `trace_pixels` entry
+    // points) uses `u8`/`i8` (enum discriminants such as
+    // `core::cmp::Ordering`'s), `i64`/`u64` and `f64` (exact integer → float
+    // conversions) on the per-ray path; the host requests SHADER_INT64 and
+    // SHADER_F64 where the adapter has them.
+    let mut builder = SpirvBuilder::new(&shader, "spirv-unknown-vulkan1.1")
+        .release(true)
+        .capability(Capability::Int8)
+        .capability(Capability::Int64)
+        .capability(Capability::Float64);
     // Extra shader-crate features, comma-separated (e.g. `trace`).
     if let Ok(features) = std::env::var("BOUNDTRACE_SHADER_FEATURES") {
         let list: Vec<String> = features
@@ -28,17 +37,9 @@ fn main() -> ExitCode {
             .map(str::to_owned)
             .collect();
         if list.iter().any(|f| f == "trace") {
-            // The tracer's shared code uses `u8`/`i8` (enum discriminants
-            // such as `core::cmp::Ordering`'s), `i64`/`u64` and `f64` (exact
-            // integer → float conversions) on the per-ray path; the host
-            // requests SHADER_INT64 and SHADER_F64 where the adapter has them.
-            // spirv-opt fails on it ("ID overflow": too many ids after
-            // rust-gpu's inlining); the driver optimises anyway.
-            builder = builder
-                .capability(Capability::Int8)
-                .capability(Capability::Int64)
-                .capability(Capability::Float64)
-                .extra_arg("--no-spirv-opt");
+            // spirv-opt fails on the whole tracer ("ID overflow": too many
+            // ids after rust-gpu's inlining); the driver optimises anyway.
+            builder = builder.extra_arg("--no-spirv-opt");
         }
         builder = builder.shader_crate_features(list);
     }

@@ -55,8 +55,8 @@ use boundtrace_inclusion::Field;
 #[cfg(test)]
 use boundtrace_tracer::Side;
 use boundtrace_tracer::camera::{Camera, Projection};
-use boundtrace_tracer::pixel::{PixelSetup, trace_pixel_in};
-use boundtrace_tracer::{Method, Mode, Params, Root, Status, normal};
+use boundtrace_tracer::pixel::{PixelSetup, trace_pixel_in, trace_pixel_with};
+use boundtrace_tracer::{Method, Mode, Params, Root, Status, normal, trace_sphere_in};
 
 /// The largest per-pixel root buffer of the GPU (transparent mode): a
 /// fixed-size local array in the shader.
@@ -357,6 +357,96 @@ pub fn render_pixel(
     hits: &mut [HitOut],
     base: usize,
 ) -> PixelOut {
+    render_with::<AnyMethod>(c, words, floats, blobs, x, y, roots, hits, base)
+}
+
+/// [`render_pixel`] for [`Method::Sphere`] only (other methods give
+/// [`Status::Unsupported`]): the shader's `trace_sphere` entry point.
+///
+/// It links the tracer's sphere tracing alone
+/// ([`trace_sphere_in`]), not the method dispatch: a GPU driver that
+/// inlines every call (lavapipe does) compiles this one, while the whole
+/// tracer is orders of magnitude larger (BENCHMARKS.md "GPU").
+#[allow(clippy::too_many_arguments)]
+pub fn render_sphere_pixel(
+    c: &Constants,
+    words: &[u32],
+    floats: &[f32],
+    blobs: &[PointBlob<f32>],
+    x: u32,
+    y: u32,
+    roots: &mut [Root<f32>],
+    hits: &mut [HitOut],
+    base: usize,
+) -> PixelOut {
+    if c.method != Method::Sphere as u32 {
+        return unsupported();
+    }
+    render_with::<SphereOnly>(c, words, floats, blobs, x, y, roots, hits, base)
+}
+
+/// Which of the tracer's entry points a kernel links: the choice is a type
+/// (not a value) so that a shader entry point's call graph holds only the
+/// code it runs.
+trait PixelTracer {
+    /// Traces one pixel, its roots written to `roots[window]`.
+    fn trace<F: Field<f32>>(
+        field: &F,
+        setup: &PixelSetup<f32>,
+        x: u32,
+        y: u32,
+        roots: &mut [Root<f32>],
+        window: [usize; 2],
+    ) -> boundtrace_tracer::pixel::PixelTrace<f32>;
+}
+
+/// Every method, through the tracer's dispatch ([`trace_pixel_in`]).
+struct AnyMethod;
+
+impl PixelTracer for AnyMethod {
+    fn trace<F: Field<f32>>(
+        field: &F,
+        setup: &PixelSetup<f32>,
+        x: u32,
+        y: u32,
+        roots: &mut [Root<f32>],
+        window: [usize; 2],
+    ) -> boundtrace_tracer::pixel::PixelTrace<f32> {
+        trace_pixel_in(field, setup, x, y, roots, window)
+    }
+}
+
+/// Sphere tracing alone ([`trace_sphere_in`]).
+struct SphereOnly;
+
+impl PixelTracer for SphereOnly {
+    fn trace<F: Field<f32>>(
+        field: &F,
+        setup: &PixelSetup<f32>,
+        x: u32,
+        y: u32,
+        roots: &mut [Root<f32>],
+        window: [usize; 2],
+    ) -> boundtrace_tracer::pixel::PixelTrace<f32> {
+        trace_pixel_with(setup, x, y, window[1], move |ray, span| {
+            trace_sphere_in(field, ray, span, setup.mode, &setup.params, roots, window)
+        })
+    }
+}
+
+/// [`render_pixel`] with the tracer `P`.
+#[allow(clippy::too_many_arguments)]
+fn render_with<P: PixelTracer>(
+    c: &Constants,
+    words: &[u32],
+    floats: &[f32],
+    blobs: &[PointBlob<f32>],
+    x: u32,
+    y: u32,
+    roots: &mut [Root<f32>],
+    hits: &mut [HitOut],
+    base: usize,
+) -> PixelOut {
     if !c.codes_valid() {
         return unsupported();
     }
@@ -366,18 +456,18 @@ pub fn render_pixel(
         // messages), which rust-gpu 0.11 cannot compile: CPU only for now.
         #[cfg(not(target_arch = "spirv"))]
         Some(SceneKind::Blobtree) => match BlobtreeRef::new(words, floats) {
-            Ok(tree) => pixel(&tree, &setup, c.max_roots, x, y, roots, hits, base),
+            Ok(tree) => pixel::<P, _>(&tree, &setup, c.max_roots, x, y, roots, hits, base),
             Err(_) => unsupported(),
         },
         Some(SceneKind::Blobs) if c.iso.is_finite() => {
             let field = Blobs::new_unchecked(c.iso, blobs);
-            pixel(&field, &setup, c.max_roots, x, y, roots, hits, base)
+            pixel::<P, _>(&field, &setup, c.max_roots, x, y, roots, hits, base)
         }
         Some(SceneKind::Blobs) => unsupported(),
         Some(SceneKind::BlobGroups) => {
             let field = FlatBlobGroups::from_parts(c.iso, words, c.groups as usize, blobs);
             if field.is_valid() {
-                pixel(&field, &setup, c.max_roots, x, y, roots, hits, base)
+                pixel::<P, _>(&field, &setup, c.max_roots, x, y, roots, hits, base)
             } else {
                 unsupported()
             }
@@ -391,9 +481,9 @@ pub fn render_pixel(
     }
 }
 
-/// [`trace_pixel_in`] on this pixel's window of the root buffer, then the hits.
+/// `P`'s trace of this pixel's window of the root buffer, then the hits.
 #[allow(clippy::too_many_arguments)]
-fn pixel<F: Field<f32>>(
+fn pixel<P: PixelTracer, F: Field<f32>>(
     field: &F,
     setup: &PixelSetup<f32>,
     max_roots: u32,
@@ -411,7 +501,7 @@ fn pixel<F: Field<f32>>(
     } else {
         max_roots as usize
     };
-    let px = trace_pixel_in(field, setup, x, y, roots, [base, n]);
+    let px = P::trace(field, setup, x, y, roots, [base, n]);
     let mut i = 0usize;
     while i < px.trace.roots as usize {
         let root = roots[base + i];
@@ -479,6 +569,57 @@ mod tests {
         }; 1];
         let out = render_pixel(&bad, &[], &[], &[], 0, 0, &mut roots, &mut hits, 0);
         assert_eq!(out.status, Status::Unsupported as u32);
+    }
+
+    #[test]
+    fn sphere_kernel_matches_the_general_one() {
+        let k = boundtrace_fields::Kernel::compact(6, 0.9f32).unwrap();
+        let blobs = [
+            PointBlob::new([0.0, 0.0, 0.0], 1.0, k).unwrap(),
+            PointBlob::new([0.3, 0.1, 0.0], 1.0, k).unwrap(),
+        ];
+        let bounds = [[-0.8f32; 3], [0.8; 3]];
+        for (method, mode) in [
+            (Method::Sphere, Mode::Opaque),
+            (Method::Sphere, Mode::Transparent),
+            (Method::Segment, Mode::Opaque),
+        ] {
+            let setup = PixelSetup {
+                camera: Camera::framing(bounds, [0.2, -0.3, -1.0], 40.0, 1.0).unwrap(),
+                bounds,
+                width: 6,
+                height: 6,
+                method,
+                mode,
+                params: Params::new(),
+            };
+            let c = Constants::new(&setup, SceneKind::Blobs, 0.5, 4, 0);
+            let mut hit_pixels = 0;
+            for y in 0..6 {
+                for x in 0..6 {
+                    let fresh = || {
+                        let r = Root {
+                            t: 0.0,
+                            side: Side::Touch,
+                        };
+                        ([r; 4], [HitOut::default(); 4])
+                    };
+                    let ((mut ra, mut ha), (mut rb, mut hb)) = (fresh(), fresh());
+                    let a = render_pixel(&c, &[], &[], &blobs, x, y, &mut ra, &mut ha, 0);
+                    let b = render_sphere_pixel(&c, &[], &[], &blobs, x, y, &mut rb, &mut hb, 0);
+                    if method == Method::Sphere {
+                        assert_eq!((a, ha), (b, hb));
+                        hit_pixels += usize::from(a.roots > 0);
+                    } else {
+                        assert_eq!(b.status, Status::Unsupported as u32);
+                        assert_eq!(b.roots, 0);
+                    }
+                }
+            }
+            if method == Method::Sphere {
+                assert!(hit_pixels > 4, "{hit_pixels}");
+            }
+        }
     }
 
     #[test]

@@ -3,17 +3,21 @@
 //! tracer's own per-pixel code. Built by `scripts/build-spirv.sh` with the
 //! pinned rust-gpu nightly; the host (`boundtrace-gpu`) loads the module.
 //!
-//! Entry points: `interval_square` (the toolchain probe: ia-core interval
-//! arithmetic on the GPU, always built) and `trace_pixels` (feature
-//! `trace`: `BOUNDTRACE_SHADER_FEATURES=trace scripts/build-spirv.sh`).
+//! Entry points:
+//! - `interval_square`: the toolchain probe (ia-core interval arithmetic
+//!   on the GPU), always built;
+//! - `trace_sphere`: sphere tracing ([`render_sphere_pixel`]), always
+//!   built: a driver that inlines every call (lavapipe) compiles it;
+//! - `trace_pixels`: every GPU method ([`render_pixel`]), feature `trace`
+//!   (`BOUNDTRACE_SHADER_FEATURES=trace scripts/build-spirv.sh`): it links,
+//!   but is too large for such a driver (BENCHMARKS.md "GPU").
 #![cfg_attr(target_arch = "spirv", no_std)]
 
-#[cfg(feature = "trace")]
 use boundtrace_fields::PointBlob;
 #[cfg(feature = "trace")]
-use boundtrace_gpu_kernel::{Constants, HitOut, PixelOut, render_pixel};
+use boundtrace_gpu_kernel::render_pixel;
+use boundtrace_gpu_kernel::{Constants, HitOut, PixelOut, render_sphere_pixel};
 use boundtrace_ia_core::Interval;
-#[cfg(feature = "trace")]
 use boundtrace_tracer::Root;
 use spirv_std::glam::UVec3;
 use spirv_std::spirv;
@@ -61,6 +65,31 @@ pub fn trace_pixels(
     let i = (id.y * c.width + id.x) as usize;
     let base = i * c.max_roots as usize;
     let out = render_pixel(&c, words, floats, blobs, id.x, id.y, roots, hits, base);
+    if i < pixels.len() {
+        pixels[i] = out;
+    }
+}
+
+/// [`trace_pixels`]'s bindings and layout, sphere tracing only
+/// ([`render_sphere_pixel`]: other methods give `Unsupported` pixels).
+#[spirv(compute(threads(8, 8)))]
+pub fn trace_sphere(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] constants: &Constants,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] words: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] floats: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] blobs: &[PointBlob<f32>],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] pixels: &mut [PixelOut],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] hits: &mut [HitOut],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] roots: &mut [Root<f32>],
+) {
+    let c = *constants;
+    if id.x >= c.width || id.y >= c.height {
+        return;
+    }
+    let i = (id.y * c.width + id.x) as usize;
+    let base = i * c.max_roots as usize;
+    let out = render_sphere_pixel(&c, words, floats, blobs, id.x, id.y, roots, hits, base);
     if i < pixels.len() {
         pixels[i] = out;
     }

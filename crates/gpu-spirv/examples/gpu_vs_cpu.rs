@@ -1,7 +1,8 @@
-//! GPU (SPIR-V on wgpu) vs CPU render time for a few scenes and methods.
-//! Needs the module with the `trace_pixels` entry point
-//! (`BOUNDTRACE_SHADER_FEATURES=trace scripts/build-spirv.sh`; slow: see
-//! BENCHMARKS.md "GPU") and a Vulkan adapter.
+//! GPU (SPIR-V on wgpu) vs CPU render time for a few scenes and methods:
+//! `sphere` (the module's `trace_sphere` entry point, always built), and
+//! `segment`, `quadratic-bottom-up`, `quadratic-mixed` when the module has
+//! `trace_pixels` (`BOUNDTRACE_SHADER_FEATURES=trace scripts/build-spirv.sh`;
+//! see BENCHMARKS.md "GPU"). Needs a Vulkan adapter.
 //!
 //! ```text
 //! scripts/build-spirv.sh
@@ -15,10 +16,10 @@
 //! their ratio. Also checks that both frames agree on hit/miss.
 
 use boundtrace_gpu::{GpuScene, GpuTracer};
-use boundtrace_tracer::Method;
 use boundtrace_tracer::camera::Camera;
 use boundtrace_tracer::render::{RenderSettings, render_serial};
 use boundtrace_tracer::scenes::{DEFAULT_SEED, Scene};
+use boundtrace_tracer::{Method, Status};
 use std::time::Instant;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -40,17 +41,23 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         info.backend,
         t.elapsed().as_secs_f64()
     );
-    println!("| scene | method | CPU 1 thread (ms) | GPU (ms) | CPU / GPU | hit/miss agree |");
-    println!("| --- | --- | ---: | ---: | ---: | ---: |");
+    println!(
+        "| scene | method | CPU 1 thread (ms) | GPU (ms) | CPU / GPU | hit/miss agree | cut short on the GPU |"
+    );
+    println!("| --- | --- | ---: | ---: | ---: | ---: | ---: |");
+    let mut methods = vec![Method::Sphere];
+    if gpu.entry_points().iter().any(|e| e == "trace_pixels") {
+        methods.extend([
+            Method::Segment,
+            Method::QuadraticBottomUp,
+            Method::QuadraticMixed,
+        ]);
+    }
     for name in ["blobs", "blobs-sum"] {
         let scene = Scene::<f32>::build(name, DEFAULT_SEED)?;
         let data = GpuScene::from_scene(&scene)?;
         let camera = Camera::framing(scene.bounds(), [0.3, -0.4, -1.0], 40.0, 1.0)?;
-        for method in [
-            Method::Segment,
-            Method::QuadraticBottomUp,
-            Method::QuadraticMixed,
-        ] {
+        for &method in &methods {
             let settings = RenderSettings::new(size, size, method)?;
             let (mut best_cpu, mut best_gpu) = (f64::INFINITY, f64::INFINITY);
             let (mut cpu_frame, mut gpu_frame) = (None, None);
@@ -68,18 +75,24 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 best_gpu = best_gpu.min(t.elapsed().as_secs_f64());
             }
             let (c, g) = (cpu_frame.unwrap(), gpu_frame.unwrap());
-            let mut agree = 0;
+            let (mut agree, mut cut) = (0, 0);
             for y in 0..size {
                 for x in 0..size {
                     agree += usize::from(c.hits(x, y).is_empty() == g.hits(x, y).is_empty());
+                    let (a, b) = (c.pixel(x, y).unwrap(), g.pixel(x, y).unwrap());
+                    cut += usize::from(
+                        b.trace.status == Status::MaxSteps && a.trace.status != Status::MaxSteps,
+                    );
                 }
             }
+            let pct = |k: usize| 100.0 * k as f64 / (size * size) as f64;
             println!(
-                "| {name} | {method} | {:.1} | {:.1} | {:.2} | {:.2} % |",
+                "| {name} | {method} | {:.1} | {:.1} | {:.2} | {:.2} % | {:.2} % |",
                 best_cpu * 1e3,
                 best_gpu * 1e3,
                 best_cpu / best_gpu,
-                100.0 * agree as f64 / (size * size) as f64
+                pct(agree),
+                pct(cut)
             );
         }
     }

@@ -4,7 +4,8 @@
 //! for users), and returns the same [`Frame`] type as the CPU renderer.
 //!
 //! The shader is a thin wrapper: each invocation calls
-//! [`boundtrace_gpu_kernel::render_pixel`], which calls the tracer's
+//! [`boundtrace_gpu_kernel::render_sphere_pixel`] or
+//! [`boundtrace_gpu_kernel::render_pixel`], which call the tracer's
 //! [`trace_pixel`](boundtrace_tracer::pixel::trace_pixel) and
 //! [`normal`](boundtrace_tracer::normal) over the scene's flat data — the
 //! same code the CPU runs. Scenes are buffers ([`GpuScene`]), so a new
@@ -21,23 +22,26 @@
 //! let scene = Scene::<f32>::build("blobs", DEFAULT_SEED)?;
 //! let data = GpuScene::from_scene(&scene)?;
 //! let camera = Camera::framing(scene.bounds(), [0.0, 0.0, -1.0], 40.0, 1.0)?;
-//! let settings = RenderSettings::new(64, 64, Method::QuadraticMixed)?;
+//! let settings = RenderSettings::new(64, 64, Method::Sphere)?;
 //! let frame = gpu.render(&data, &camera, &settings)?;
 //! frame.shaded_image().write_png("blobs-gpu.png")?;
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
-//! **Status**: the toolchain works end to end ([`interval_probe`] runs
-//! `boundtrace-ia-core` interval code compiled by rust-gpu on lavapipe,
-//! bit-identical to the CPU). The tracer's shared code passes rust-gpu
-//! 0.11's code generation since issue 9 (session 6: no niche-encoded
-//! enums of aggregates, no sub-slices of storage buffers, no array or
-//! slice iterators, no string errors on the shader path). The module has
-//! the `trace_pixels` entry point only when built with
-//! `BOUNDTRACE_SHADER_FEATURES=trace`, whose rust-gpu link step had not
-//! finished after 70 minutes on a loaded 2-core machine, so the GPU/CPU
-//! difftests are not verified yet and [`GpuTracer::new`] reports a module
-//! without it.
+//! **Status** (issue 9, open): the module's `trace_sphere` entry point —
+//! [`boundtrace_gpu_kernel::render_sphere_pixel`], i.e. the tracer's
+//! `trace_sphere_in` — runs on lavapipe and matches the CPU on every pixel
+//! it traces to the end (CI: `tests/difftest.rs`); [`interval_probe`]
+//! runs `boundtrace-ia-core` interval code bit-identically to the CPU. The
+//! other methods live in the `trace_pixels` entry point
+//! ([`render_pixel`](boundtrace_gpu_kernel::render_pixel), shader feature
+//! `trace`), which rust-gpu links but which is still far too large for a
+//! driver that inlines every call; on a module without it
+//! [`GpuTracer::render`] answers [`GpuError::MethodUnavailable`]. On
+//! lavapipe, llvmpipe ends the loops of a SIMD group after 65,535
+//! iterations in all, so the busiest rays come back as
+//! [`Status::MaxSteps`](boundtrace_tracer::Status::MaxSteps)
+//! (BENCHMARKS.md "GPU").
 //!
 //! Limits: `f32` only; the per-pixel root buffer of transparent mode holds
 //! [`MAX_GPU_ROOTS`] roots (more is a [`GpuError::MaxRoots`]); scenes with
@@ -58,9 +62,10 @@ use boundtrace_tracer::camera::Camera;
 use boundtrace_tracer::pixel::PixelSetup;
 use boundtrace_tracer::render::{Frame, Hit, Pixel, RenderError, RenderSettings};
 use boundtrace_tracer::scenes::{Scene, SceneField};
-use boundtrace_tracer::{Mode, RayStats, Side, Status, Trace};
+use boundtrace_tracer::{Method, Mode, RayStats, Side, Status, Trace};
 use std::fmt;
 use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
 
 /// The command that builds the SPIR-V module (run from the repository root).
 pub const BUILD_COMMAND: &str = "scripts/build-spirv.sh";
@@ -68,8 +73,13 @@ pub const BUILD_COMMAND: &str = "scripts/build-spirv.sh";
 /// The environment variable naming the SPIR-V module explicitly.
 pub const SPV_ENV: &str = "BOUNDTRACE_GPU_SPV";
 
-/// The compute entry point that traces pixels.
+/// The compute entry point that traces pixels with any GPU method (the
+/// shader's `trace` feature).
 const ENTRY: &str = "trace_pixels";
+
+/// The compute entry point that traces pixels with sphere tracing (always
+/// in the module).
+const SPHERE_ENTRY: &str = "trace_sphere";
 
 /// An error of the GPU path.
 #[derive(Debug)]
@@ -94,6 +104,15 @@ pub enum GpuError {
     MaxRoots(u32),
     /// Running the shader or reading its results failed.
     Dispatch(String),
+    /// The module has no entry point for the method (only `trace_sphere`
+    /// unless the shader was built with its `trace` feature), or the driver
+    /// could not compile the entry point that has it.
+    MethodUnavailable {
+        /// The method asked for.
+        method: Method,
+        /// Why it cannot run.
+        why: String,
+    },
 }
 
 impl fmt::Display for GpuError {
@@ -119,6 +138,12 @@ impl fmt::Display for GpuError {
                 "gpu: transparent mode keeps at most {MAX_GPU_ROOTS} roots per pixel, {n} asked"
             ),
             GpuError::Dispatch(e) => write!(f, "gpu: dispatch failed: {e}"),
+            GpuError::MethodUnavailable { method, why } => {
+                write!(
+                    f,
+                    "gpu: method `{method}` is not available on this GPU: {why}"
+                )
+            }
         }
     }
 }
@@ -257,12 +282,21 @@ fn blob_words(blobs: &[PointBlob<f32>]) -> Vec<u32> {
     w
 }
 
-/// A wgpu device with the tracing pipeline.
+/// A wgpu device with the tracing pipelines.
 pub struct GpuTracer {
     adapter: wgpu::AdapterInfo,
     device: wgpu::Device,
     queue: wgpu::Queue,
-    pipeline: wgpu::ComputePipeline,
+    /// The module's words, for the pipelines created on first use.
+    module: Vec<u8>,
+    /// The bind group layout shared by the tracing entry points.
+    layout: wgpu::PipelineLayout,
+    /// `trace_sphere`'s pipeline, created by [`GpuTracer::new`].
+    sphere: wgpu::ComputePipeline,
+    /// `trace_pixels`' pipeline (every method), created on first use: a
+    /// driver may take long or fail to compile it (lavapipe runs out of
+    /// memory), so only renders that need it pay.
+    general: OnceLock<Result<wgpu::ComputePipeline, String>>,
 }
 
 impl fmt::Debug for GpuTracer {
@@ -316,8 +350,6 @@ impl GpuTracer {
 
     async fn create(bytes: &[u8]) -> Result<Self, GpuError> {
         let (info, device, queue) = open_device().await?;
-        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let module = shader_module(&device, bytes, ENTRY, (8, 8, 1));
         let entries: Vec<wgpu::BindGroupLayoutEntry> = STORAGE_ENTRIES
             .iter()
             .map(|&(binding, read_only)| wgpu::BindGroupLayoutEntry {
@@ -331,37 +363,65 @@ impl GpuTracer {
                 count: None,
             })
             .collect();
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        let group = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("boundtrace"),
             entries: &entries,
         });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("boundtrace"),
-            bind_group_layouts: &[Some(&layout)],
+            bind_group_layouts: &[Some(&group)],
             immediate_size: 0,
         });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("boundtrace trace_pixels"),
-            layout: Some(&pipeline_layout),
-            module: &module,
-            entry_point: Some(ENTRY),
-            compilation_options: Default::default(),
-            cache: None,
-        });
-        if let Some(e) = scope.pop().await {
+        if !entry_points(bytes).iter().any(|e| e == SPHERE_ENTRY) {
             return Err(GpuError::Shader(format!(
-                "{} (the `{ENTRY}` entry point needs the shader's `trace` feature: \
-                 BOUNDTRACE_SHADER_FEATURES=trace {BUILD_COMMAND}; drivers that inline \
-                 every call, like lavapipe, cannot compile it yet, see BENCHMARKS.md \"GPU\")",
-                error_chain(&e)
+                "the module has no `{SPHERE_ENTRY}` entry point (an old build? run {BUILD_COMMAND})"
             )));
         }
+        let sphere = tracing_pipeline(&device, &layout, bytes, SPHERE_ENTRY)
+            .await
+            .map_err(GpuError::Shader)?;
         Ok(Self {
             adapter: info,
             device,
             queue,
-            pipeline,
+            module: bytes.to_vec(),
+            layout,
+            sphere,
+            general: OnceLock::new(),
         })
+    }
+
+    /// The names of the module's compute entry points (`interval_square`,
+    /// `trace_sphere`, and `trace_pixels` when the shader was built with its
+    /// `trace` feature).
+    pub fn entry_points(&self) -> Vec<String> {
+        entry_points(&self.module)
+    }
+
+    /// The pipeline that traces `method`: `trace_sphere` for sphere
+    /// tracing, else `trace_pixels`, created on first use.
+    fn pipeline(&self, method: Method) -> Result<&wgpu::ComputePipeline, GpuError> {
+        if method == Method::Sphere {
+            return Ok(&self.sphere);
+        }
+        let unavailable = |why: String| GpuError::MethodUnavailable { method, why };
+        if !entry_points(&self.module).iter().any(|e| e == ENTRY) {
+            return Err(unavailable(format!(
+                "the module has only `{SPHERE_ENTRY}` (sphere tracing); every method is in \
+                 `{ENTRY}`, built by BOUNDTRACE_SHADER_FEATURES=trace {BUILD_COMMAND}, which \
+                 drivers that inline every call (lavapipe) cannot compile yet \
+                 (BENCHMARKS.md \"GPU\")"
+            )));
+        }
+        let general = self.general.get_or_init(|| {
+            pollster::block_on(tracing_pipeline(
+                &self.device,
+                &self.layout,
+                &self.module,
+                ENTRY,
+            ))
+        });
+        general.as_ref().map_err(|e| unavailable(e.clone()))
     }
 
     /// The adapter in use (name, backend, device type: lavapipe reports
@@ -376,7 +436,10 @@ impl GpuTracer {
     ///
     /// # Errors
     /// Invalid settings ([`GpuError::Render`]); more than [`MAX_GPU_ROOTS`]
-    /// roots per pixel in transparent mode; device errors.
+    /// roots per pixel in transparent mode; [`GpuError::MethodUnavailable`]
+    /// for a method other than [`Method::Sphere`] when the module lacks the
+    /// `trace_pixels` entry point or the driver cannot compile it; device
+    /// errors.
     pub fn render(
         &self,
         scene: &GpuScene,
@@ -402,9 +465,10 @@ impl GpuTracer {
             mode: settings.mode,
             params: settings.params,
         };
+        let pipeline = self.pipeline(settings.method)?;
         let c = Constants::new(&setup, scene.kind, scene.iso, slots, scene.groups);
         let n = settings.width as usize * settings.height as usize;
-        let (pix_words, hit_words) = self.run(&c, scene, n, n * slots as usize)?;
+        let (pix_words, hit_words) = self.run(pipeline, &c, scene, n, n * slots as usize)?;
         let mut pixels = Vec::with_capacity(n);
         let mut hits = Vec::new();
         for i in 0..n {
@@ -435,6 +499,7 @@ impl GpuTracer {
     /// Uploads, dispatches and reads back the pixel and hit words.
     fn run(
         &self,
+        pipeline: &wgpu::ComputePipeline,
         c: &Constants,
         scene: &GpuScene,
         pixels: usize,
@@ -502,13 +567,13 @@ impl GpuTracer {
         let scope = dev.push_error_scope(wgpu::ErrorFilter::Validation);
         let bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("boundtrace"),
-            layout: &self.pipeline.get_bind_group_layout(0),
+            layout: &pipeline.get_bind_group_layout(0),
             entries: &entries,
         });
         let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
         {
             let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
-            pass.set_pipeline(&self.pipeline);
+            pass.set_pipeline(pipeline);
             pass.set_bind_group(0, &bind, &[]);
             pass.dispatch_workgroups(c.width.div_ceil(WORKGROUP), c.height.div_ceil(WORKGROUP), 1);
         }
@@ -522,6 +587,64 @@ impl GpuTracer {
         let hits = read_back(dev, &backs[1])?;
         Ok((pixels, hits))
     }
+}
+
+/// The tracing pipeline of `entry` (8 × 8 workgroups, the shared layout);
+/// the driver's or wgpu's error as text.
+async fn tracing_pipeline(
+    device: &wgpu::Device,
+    layout: &wgpu::PipelineLayout,
+    bytes: &[u8],
+    entry: &str,
+) -> Result<wgpu::ComputePipeline, String> {
+    let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let module = shader_module(device, bytes, entry, (WORKGROUP, WORKGROUP, 1));
+    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(entry),
+        layout: Some(layout),
+        module: &module,
+        entry_point: Some(entry),
+        compilation_options: Default::default(),
+        cache: None,
+    });
+    match scope.pop().await {
+        Some(e) => Err(format!("entry point `{entry}`: {}", error_chain(&e))),
+        None => Ok(pipeline),
+    }
+}
+
+/// The names of a SPIR-V module's entry points (`OpEntryPoint`), in
+/// order; empty for words that are not a module.
+fn entry_points(bytes: &[u8]) -> Vec<String> {
+    let words: Vec<u32> = bytes
+        .chunks_exact(4)
+        .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        .collect();
+    let mut names = Vec::new();
+    if words.len() < 5 || words[0] != 0x0723_0203 {
+        return names;
+    }
+    let mut i = 5;
+    while i < words.len() {
+        let (count, op) = ((words[i] >> 16) as usize, words[i] & 0xffff);
+        if count == 0 || i + count > words.len() {
+            break;
+        }
+        if op == 15 && count > 3 {
+            // OpEntryPoint: execution model, function id, name (nul-terminated).
+            let raw: Vec<u8> = words[i + 3..i + count]
+                .iter()
+                .flat_map(|w| w.to_le_bytes())
+                .take_while(|&b| b != 0)
+                .collect();
+            names.push(String::from_utf8_lossy(&raw).into_owned());
+        }
+        if op == 54 {
+            break; // OpFunction: the entry points come before every function
+        }
+        i += count;
+    }
+    names
 }
 
 /// Selects an adapter (high-performance preference; the wgpu environment

@@ -127,7 +127,7 @@ macro_rules! impl_real {
                 let sign = 1 << ($bits::BITS - 1);
                 let inf = $t::INFINITY.to_bits();
                 let mag = self.to_bits() & !sign;
-                if !(self < 0.0) {
+                if self >= 0.0 {
                     // ±0 or positive: the magnitude grows (from ±0 to the
                     // least subnormal), saturating at +∞.
                     return if n >= inf - mag {
