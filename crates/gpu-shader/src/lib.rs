@@ -58,16 +58,17 @@ pub fn trace_pixels(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] hits: &mut [HitOut],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] roots: &mut [Root<f32>],
 ) {
-    let c = *constants;
-    if id.x >= c.width || id.y >= c.height {
-        return;
-    }
-    let i = (id.y * c.width + id.x) as usize;
-    let base = i * c.max_roots as usize;
-    let out = render_pixel(&c, words, floats, blobs, id.x, id.y, roots, hits, base);
-    if i < pixels.len() {
-        pixels[i] = out;
-    }
+    trace_entry(
+        id,
+        constants,
+        words,
+        floats,
+        blobs,
+        pixels,
+        hits,
+        roots,
+        render_pixel,
+    );
 }
 
 /// [`trace_pixels`]'s bindings and layout, sphere tracing only
@@ -83,13 +84,53 @@ pub fn trace_sphere(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] hits: &mut [HitOut],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] roots: &mut [Root<f32>],
 ) {
+    trace_entry(
+        id,
+        constants,
+        words,
+        floats,
+        blobs,
+        pixels,
+        hits,
+        roots,
+        render_sphere_pixel,
+    );
+}
+
+/// The body of the tracing entry points: pixel `(id.x, id.y)` of the frame
+/// in `constants`, traced by `render` (a kernel function, called directly:
+/// a generic, not a function pointer), its record written to `pixels`.
+#[allow(clippy::too_many_arguments)]
+fn trace_entry<R>(
+    id: UVec3,
+    constants: &Constants,
+    words: &[u32],
+    floats: &[f32],
+    blobs: &[PointBlob<f32>],
+    pixels: &mut [PixelOut],
+    hits: &mut [HitOut],
+    roots: &mut [Root<f32>],
+    render: R,
+) where
+    R: Fn(
+        &Constants,
+        &[u32],
+        &[f32],
+        &[PointBlob<f32>],
+        u32,
+        u32,
+        &mut [Root<f32>],
+        &mut [HitOut],
+        usize,
+    ) -> PixelOut,
+{
     let c = *constants;
     if id.x >= c.width || id.y >= c.height {
         return;
     }
     let i = (id.y * c.width + id.x) as usize;
     let base = i * c.max_roots as usize;
-    let out = render_sphere_pixel(&c, words, floats, blobs, id.x, id.y, roots, hits, base);
+    let out = render(&c, words, floats, blobs, id.x, id.y, roots, hits, base);
     if i < pixels.len() {
         pixels[i] = out;
     }

@@ -950,6 +950,34 @@ mod tests {
     }
 
     #[test]
+    fn entry_point_names_are_read_from_the_module() {
+        let name = |s: &str| -> Vec<u32> {
+            let mut b = s.as_bytes().to_vec();
+            b.resize((b.len() / 4 + 1) * 4, 0); // nul-terminated, padded
+            b.chunks(4)
+                .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+                .collect()
+        };
+        let mut words = vec![0x0723_0203, 0x0001_0300, 0, 100, 0];
+        for (id, n) in [(7, "trace_sphere"), (8, "interval_square")] {
+            let text = name(n);
+            words.push(((3 + text.len() as u32) << 16) | 15); // OpEntryPoint
+            words.extend([5, id]); // GLCompute, function id
+            words.extend(text);
+        }
+        words.push((5 << 16) | 54); // OpFunction: the scan stops here
+        words.extend([1, 7, 0, 2]);
+        words.push((4 << 16) | 15); // an OpEntryPoint-like word after it is ignored
+        words.extend([5, 9, 0]);
+        let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
+        assert_eq!(entry_points(&bytes), ["trace_sphere", "interval_square"]);
+        assert!(entry_points(&bytes[4..]).is_empty()); // bad magic
+        assert!(entry_points(&[]).is_empty());
+        // A truncated instruction ends the scan without panicking.
+        assert_eq!(entry_points(&bytes[..bytes.len() - 40]).len(), 1);
+    }
+
+    #[test]
     fn missing_module_names_the_build_command() {
         let e = GpuError::ShaderMissing {
             path: PathBuf::from("/nowhere/x.spv"),
