@@ -23,6 +23,7 @@ use boundtrace_tracer::camera::Camera;
 use boundtrace_tracer::render::{Frame, RenderSettings, render_serial};
 use boundtrace_tracer::scenes::{DEFAULT_SEED, Scene};
 use boundtrace_tracer::{Method, Mode, Status};
+use std::sync::OnceLock;
 
 const SIZE: u32 = 32;
 
@@ -45,8 +46,12 @@ fn in_ci() -> bool {
     std::env::var("CI").is_ok_and(|v| v == "true" || v == "1")
 }
 
-fn gpu() -> Option<GpuTracer> {
-    match GpuTracer::new() {
+/// The tracer shared by every test of this binary: the driver compiles
+/// the `trace_sphere` pipeline once (lavapipe takes minutes and gigabytes
+/// per compilation; tests in parallel would each start one).
+fn gpu() -> Option<&'static GpuTracer> {
+    static GPU: OnceLock<Option<GpuTracer>> = OnceLock::new();
+    GPU.get_or_init(|| match GpuTracer::new() {
         Ok(g) => {
             eprintln!("GPU difftests on {:?}", g.adapter_info());
             Some(g)
@@ -59,7 +64,8 @@ fn gpu() -> Option<GpuTracer> {
             None
         }
         Err(e) => panic!("GPU error: {e}"),
-    }
+    })
+    .as_ref()
 }
 
 /// Compares two frames; `Err` with a description when a threshold fails.
