@@ -40,7 +40,7 @@
 //! [`GpuTracer::render`] answers [`GpuError::MethodUnavailable`]. On
 //! lavapipe, llvmpipe ends the loops of a SIMD group after 65,535
 //! iterations in all, so the busiest rays come back as
-//! [`Status::MaxSteps`](boundtrace_tracer::Status::MaxSteps)
+//! [`Status::MaxSteps`]
 //! (BENCHMARKS.md "GPU").
 //!
 //! Limits: `f32` only; the per-pixel root buffer of transparent mode holds
