@@ -433,16 +433,8 @@ fn finish_render<T: Real>(
     ensure_parent(&a.output)?;
     write_atomic(&a.output, &image.to_png()).map_err(|e| fail(e.to_string()))?;
     if totals.max_steps > 0 || totals.buffer_full > 0 {
-        // On lavapipe the GPU's step loop can also end early: llvmpipe
-        // caps the loop iterations of a shader (BENCHMARKS.md "GPU").
-        let gpu_note = if backend == "GPU" && totals.max_steps > 0 {
-            " (on a software Vulkan driver such as lavapipe, long rays also stop at its loop \
-             iteration cap: compare with --backend cpu)"
-        } else {
-            ""
-        };
         eprintln!(
-            "warning: {} rays hit the step limit and {} filled the root buffer; those pixels may be incomplete{gpu_note}",
+            "warning: {} rays hit the step limit and {} filled the root buffer; those pixels may be incomplete",
             totals.max_steps, totals.buffer_full
         );
     }

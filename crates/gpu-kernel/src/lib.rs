@@ -54,9 +54,13 @@ use boundtrace_fields::{Blobs, PointBlob};
 use boundtrace_inclusion::Field;
 #[cfg(test)]
 use boundtrace_tracer::Side;
-use boundtrace_tracer::camera::{Camera, Projection};
-use boundtrace_tracer::pixel::{PixelSetup, trace_pixel_in, trace_pixel_with};
-use boundtrace_tracer::{Method, Mode, Params, Root, Status, normal, trace_sphere_in};
+use boundtrace_tracer::camera::{Camera, Projection, ray_box_span};
+use boundtrace_tracer::march::{SphereState, StepGuard};
+use boundtrace_tracer::pixel::{PixelSetup, PixelTrace, trace_pixel_in, trace_pixel_with};
+use boundtrace_tracer::{
+    Method, Mode, Params, RayStats, Root, Status, Trace, normal, trace_sphere_in,
+    trace_sphere_resume_in,
+};
 
 /// The largest per-pixel root buffer of the GPU (transparent mode): a
 /// fixed-size local array in the shader.
@@ -64,6 +68,11 @@ pub const MAX_GPU_ROOTS: u32 = 8;
 
 /// Threads per workgroup along x and y (an 8 × 8 tile of pixels).
 pub const WORKGROUP: u32 = 8;
+
+/// The iterations of the loop-limit probe ([`loops_complete`]) that
+/// [`Constants::new`] sets: two, the fewest that show a loop cut after its
+/// first iteration.
+pub const GUARD_LOOPS: u32 = 2;
 
 /// Which field [`render_pixel`] builds over the scene buffers
 /// (`#[repr(u32)]`, stored in [`Constants::scene`]).
@@ -93,7 +102,7 @@ impl SceneKind {
 }
 
 /// The frame's constants, as uploaded (plain `u32`/`f32` words, `#[repr(C)]`,
-/// no padding: 35 words).
+/// no padding: 36 words).
 ///
 /// Enums travel as their `#[repr(u32)]` codes; [`Constants::setup`]
 /// decodes them (an unknown code gives `None`, and the pixel is reported
@@ -143,8 +152,14 @@ pub struct Constants {
     pub iso: f32,
     /// The number of blob groups ([`SceneKind::BlobGroups`]).
     pub groups: u32,
-    /// Unused; `0`.
-    pub reserved: u32,
+    /// Iterations of the loop-limit probe run after each sphere-tracing
+    /// step of [`render_sphere_leg`] (`0`: no probe; the host sets
+    /// [`GUARD_LOOPS`]).
+    pub guard_loops: u32,
+    /// The most sphere-tracing steps a pixel takes per dispatch in
+    /// [`render_sphere_leg`] (`0`: no limit), so that a frame can be
+    /// traced in short dispatches (a GPU watchdog, or to test resumption).
+    pub leg_steps: u32,
 }
 
 impl Constants {
@@ -182,12 +197,13 @@ impl Constants {
             scene: scene as u32,
             iso,
             groups,
-            reserved: 0,
+            guard_loops: GUARD_LOOPS,
+            leg_steps: 0,
         }
     }
 
     /// The constants as `u32` words in field order (for the upload).
-    pub fn to_words(&self) -> [u32; 35] {
+    pub fn to_words(&self) -> [u32; 36] {
         let f = |x: f32| x.to_bits();
         let [e, r, u, fw] = [self.eye, self.right, self.up, self.forward];
         let (lo, hi) = (self.bounds_lo, self.bounds_hi);
@@ -226,7 +242,8 @@ impl Constants {
             self.scene,
             f(self.iso),
             self.groups,
-            self.reserved,
+            self.guard_loops,
+            self.leg_steps,
         ]
     }
 
@@ -357,7 +374,18 @@ pub fn render_pixel(
     hits: &mut [HitOut],
     base: usize,
 ) -> PixelOut {
-    render_with::<AnyMethod>(c, words, floats, blobs, x, y, roots, hits, base)
+    render_with(
+        &mut AnyMethod,
+        c,
+        words,
+        floats,
+        blobs,
+        x,
+        y,
+        roots,
+        hits,
+        base,
+    )
 }
 
 /// [`render_pixel`] for [`Method::Sphere`] only (other methods give
@@ -382,61 +410,329 @@ pub fn render_sphere_pixel(
     if c.method != Method::Sphere as u32 {
         return unsupported();
     }
-    render_with::<SphereOnly>(c, words, floats, blobs, x, y, roots, hits, base)
+    render_with(
+        &mut SphereOnly,
+        c,
+        words,
+        floats,
+        blobs,
+        x,
+        y,
+        roots,
+        hits,
+        base,
+    )
 }
 
-/// Which of the tracer's entry points a kernel links: the choice is a type
-/// (not a value) so that a shader entry point's call graph holds only the
-/// code it runs.
-trait PixelTracer {
-    /// Traces one pixel, its roots written to `roots[window]`.
-    fn trace<F: Field<f32>>(
+/// What a kernel does with the field of a pixel: the choice is a type (not
+/// a value) so that a shader entry point's call graph holds only the code
+/// it runs.
+trait PixelKernel {
+    /// Traces and shades pixel `(x, y)` over `field`.
+    #[allow(clippy::too_many_arguments)]
+    fn run<F: Field<f32>>(
+        &mut self,
         field: &F,
         setup: &PixelSetup<f32>,
+        max_roots: u32,
         x: u32,
         y: u32,
         roots: &mut [Root<f32>],
-        window: [usize; 2],
-    ) -> boundtrace_tracer::pixel::PixelTrace<f32>;
+        hits: &mut [HitOut],
+        base: usize,
+    ) -> PixelOut;
 }
 
 /// Every method, through the tracer's dispatch ([`trace_pixel_in`]).
 struct AnyMethod;
 
-impl PixelTracer for AnyMethod {
-    fn trace<F: Field<f32>>(
+impl PixelKernel for AnyMethod {
+    fn run<F: Field<f32>>(
+        &mut self,
         field: &F,
         setup: &PixelSetup<f32>,
+        max_roots: u32,
         x: u32,
         y: u32,
         roots: &mut [Root<f32>],
-        window: [usize; 2],
-    ) -> boundtrace_tracer::pixel::PixelTrace<f32> {
-        trace_pixel_in(field, setup, x, y, roots, window)
+        hits: &mut [HitOut],
+        base: usize,
+    ) -> PixelOut {
+        let window = [base, window_len(max_roots)];
+        let px = trace_pixel_in(field, setup, x, y, roots, window);
+        shade(field, &px, roots, hits, base);
+        record(&px)
     }
 }
 
 /// Sphere tracing alone ([`trace_sphere_in`]).
 struct SphereOnly;
 
-impl PixelTracer for SphereOnly {
-    fn trace<F: Field<f32>>(
+impl PixelKernel for SphereOnly {
+    fn run<F: Field<f32>>(
+        &mut self,
         field: &F,
         setup: &PixelSetup<f32>,
+        max_roots: u32,
         x: u32,
         y: u32,
         roots: &mut [Root<f32>],
-        window: [usize; 2],
-    ) -> boundtrace_tracer::pixel::PixelTrace<f32> {
-        trace_pixel_with(setup, x, y, window[1], move |ray, span| {
+        hits: &mut [HitOut],
+        base: usize,
+    ) -> PixelOut {
+        let window = [base, window_len(max_roots)];
+        let px = trace_pixel_with(setup, x, y, window[1], |ray, span| {
             trace_sphere_in(field, ray, span, setup.mode, &setup.params, roots, window)
-        })
+        });
+        shade(field, &px, roots, hits, base);
+        record(&px)
     }
 }
 
-/// [`render_pixel`] with the tracer `P`.
+/// A pixel's resumable sphere trace between two dispatches
+/// ([`render_sphere_leg`]): the tracer's loop state and the pixel's phase
+/// (`#[repr(C)]`, 11 words; the host zero-fills the buffer, i.e.
+/// [`PHASE_FRESH`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C)]
+pub struct PixelLeg {
+    /// Where the trace resumes ([`PHASE_TRACING`]).
+    pub sphere: SphereState<f32>,
+    /// [`PHASE_FRESH`], [`PHASE_TRACING`], [`PHASE_SHADING`] or
+    /// [`PHASE_DONE`].
+    pub phase: u32,
+}
+
+/// [`PixelLeg::phase`]: not started.
+pub const PHASE_FRESH: u32 = 0;
+/// [`PixelLeg::phase`]: paused between two steps.
+pub const PHASE_TRACING: u32 = 1;
+/// [`PixelLeg::phase`]: traced, its record written; the hits' normals are
+/// still to be written.
+pub const PHASE_SHADING: u32 = 2;
+/// [`PixelLeg::phase`]: record and hits written.
+pub const PHASE_DONE: u32 = 3;
+
+/// The [`PixelOut::status`] of a pixel whose trace is paused (not a
+/// [`Status`] code); its `steps` are those taken so far.
+pub const STATUS_PAUSED: u32 = 4;
+
+/// Runs a loop of `n` iterations (`n` read at run time, so no compiler can
+/// count it) and says whether all of them ran.
+///
+/// lavapipe (llvmpipe) ends every loop of a shader invocation group once
+/// the group has run 65,535 loop iterations in all (Mesa's
+/// `LP_MAX_TGSI_LOOP_ITERATIONS`), silently: from then on each loop stops
+/// after its first iteration. A loop of two iterations that ran once
+/// shows that the limit was reached, and that the work since the last
+/// such probe cannot be trusted. On other drivers it is always `true`.
+pub fn loops_complete(n: u32) -> bool {
+    let mut i = 0u32;
+    while i < n {
+        i += 1;
+    }
+    i == n
+}
+
+/// The tracer's step guard of [`render_sphere_leg`]: at most `until`
+/// steps in all, and [`loops_complete`] after every step.
+struct LimitProbe {
+    loops: u32,
+    until: u32,
+}
+
+impl StepGuard for LimitProbe {
+    fn before_step(&mut self, steps: u32) -> bool {
+        steps < self.until
+    }
+    fn after_step(&mut self) -> bool {
+        loops_complete(self.loops)
+    }
+}
+
+/// [`render_sphere_leg`]'s kernel: one leg of the pixel's trace, or its
+/// shading.
+///
+/// It holds its leg and record by value: rust-gpu cannot keep pointers in a
+/// struct ("not a logical pointer").
+struct SphereLegs {
+    leg: PixelLeg,
+    out: PixelOut,
+    loops: u32,
+    leg_steps: u32,
+    /// Whether [`PixelKernel::run`] was called (else the pixel is
+    /// unsupported).
+    ran: bool,
+}
+
+impl PixelKernel for SphereLegs {
+    fn run<F: Field<f32>>(
+        &mut self,
+        field: &F,
+        setup: &PixelSetup<f32>,
+        max_roots: u32,
+        x: u32,
+        y: u32,
+        roots: &mut [Root<f32>],
+        hits: &mut [HitOut],
+        base: usize,
+    ) -> PixelOut {
+        self.ran = true;
+        let window = [base, window_len(max_roots)];
+        let mut leg = self.leg;
+        // `trace_pixel_with` without its closure: rust-gpu cannot capture
+        // pointers to locals in a closure ("not a logical pointer").
+        let ray = setup.camera.ray(x, y, setup.width, setup.height);
+        let span = ray_box_span(&ray, &setup.bounds);
+        if leg.phase < PHASE_SHADING {
+            let mut paused = false;
+            let trace = match span {
+                None => Trace {
+                    roots: 0,
+                    status: Status::Finished,
+                    t_reached: 0.0,
+                    stats: RayStats::default(),
+                },
+                Some(span) => {
+                    if leg.phase == PHASE_FRESH {
+                        leg.sphere = SphereState::start(span, &setup.params);
+                    }
+                    // (No `saturating_add`: rust-gpu 0.11 lacks it.)
+                    let done = leg.sphere.stats.steps;
+                    let until = if self.leg_steps == 0 || self.leg_steps > u32::MAX - done {
+                        u32::MAX
+                    } else {
+                        done + self.leg_steps
+                    };
+                    let mut guard = LimitProbe {
+                        loops: self.loops,
+                        until,
+                    };
+                    let r = trace_sphere_resume_in(
+                        field,
+                        &ray,
+                        span,
+                        setup.mode,
+                        &setup.params,
+                        roots,
+                        window,
+                        &mut leg.sphere,
+                        &mut guard,
+                    );
+                    paused = r.paused;
+                    r.trace
+                }
+            };
+            // Never report more roots than the window holds.
+            let n = if (trace.roots as usize) < window[1] {
+                trace.roots
+            } else {
+                window[1] as u32
+            };
+            let px = PixelTrace {
+                ray,
+                span,
+                trace: Trace { roots: n, ..trace },
+            };
+            if paused {
+                leg.phase = PHASE_TRACING;
+                let mut out = record(&px);
+                out.status = STATUS_PAUSED;
+                out.steps = leg.sphere.stats.steps;
+                (self.leg, self.out) = (leg, out);
+                return out;
+            }
+            // Traced: the record is final (the trace is not run again).
+            self.out = record(&px);
+            leg.phase = PHASE_SHADING;
+        }
+        // Shading: its gradients loop over the primitives too.
+        let out = self.out;
+        let traced = PixelTrace {
+            ray,
+            span,
+            trace: Trace {
+                roots: out.roots,
+                status: Status::Finished,
+                t_reached: out.t_reached,
+                stats: RayStats::default(),
+            },
+        };
+        shade(field, &traced, roots, hits, base);
+        if loops_complete(self.loops) {
+            leg.phase = PHASE_DONE;
+        }
+        self.leg = leg;
+        out
+    }
+}
+
+/// One leg of pixel `(x, y)`'s sphere tracing ([`render_sphere_pixel`] in
+/// steps that a driver's loop limit cannot corrupt): from `leg`
+/// (zero-filled before the first dispatch), it traces until the trace ends
+/// ([`Constants::leg_steps`] steps at most) or the loop-limit probe
+/// ([`loops_complete`], [`Constants::guard_loops`]
+/// iterations after every step) fails, undoing the step the limit cut
+/// short, and saves the state in `leg`. A finished trace writes its record
+/// to `out` once; its hits (with normals) are written when a leg shades
+/// them without reaching the limit. The pixel is done at [`PHASE_DONE`];
+/// until then `out.status` may be [`STATUS_PAUSED`].
+///
+/// A host dispatches the frame again until every pixel is done: the
+/// result is the uninterrupted [`render_sphere_pixel`]'s, bit for bit
+/// (the tracer's legs give the same trace, and a cut shading is redone).
+/// A leg that cannot take one step nor shade makes no progress: the host
+/// must detect it (a step that needs more loop iterations than the limit).
 #[allow(clippy::too_many_arguments)]
-fn render_with<P: PixelTracer>(
+pub fn render_sphere_leg(
+    c: &Constants,
+    words: &[u32],
+    floats: &[f32],
+    blobs: &[PointBlob<f32>],
+    x: u32,
+    y: u32,
+    roots: &mut [Root<f32>],
+    hits: &mut [HitOut],
+    base: usize,
+    leg: &mut PixelLeg,
+    out: &mut PixelOut,
+) {
+    if leg.phase >= PHASE_DONE {
+        return;
+    }
+    if c.method != Method::Sphere as u32 {
+        *out = unsupported();
+        leg.phase = PHASE_DONE;
+        return;
+    }
+    let mut k = SphereLegs {
+        leg: *leg,
+        out: *out,
+        loops: c.guard_loops,
+        leg_steps: c.leg_steps,
+        ran: false,
+    };
+    let o = render_with(&mut k, c, words, floats, blobs, x, y, roots, hits, base);
+    if !k.ran {
+        k.out = o;
+        k.leg.phase = PHASE_DONE;
+    }
+    (*leg, *out) = (k.leg, k.out);
+}
+
+/// The length of a pixel's root window.
+fn window_len(max_roots: u32) -> usize {
+    if max_roots == 0 {
+        1
+    } else {
+        max_roots as usize
+    }
+}
+
+/// [`render_pixel`] with the kernel `p`.
+#[allow(clippy::too_many_arguments)]
+fn render_with<P: PixelKernel>(
+    p: &mut P,
     c: &Constants,
     words: &[u32],
     floats: &[f32],
@@ -456,18 +752,18 @@ fn render_with<P: PixelTracer>(
         // messages), which rust-gpu 0.11 cannot compile: CPU only for now.
         #[cfg(not(target_arch = "spirv"))]
         Some(SceneKind::Blobtree) => match BlobtreeRef::new(words, floats) {
-            Ok(tree) => pixel::<P, _>(&tree, &setup, c.max_roots, x, y, roots, hits, base),
+            Ok(tree) => p.run(&tree, &setup, c.max_roots, x, y, roots, hits, base),
             Err(_) => unsupported(),
         },
         Some(SceneKind::Blobs) if c.iso.is_finite() => {
             let field = Blobs::new_unchecked(c.iso, blobs);
-            pixel::<P, _>(&field, &setup, c.max_roots, x, y, roots, hits, base)
+            p.run(&field, &setup, c.max_roots, x, y, roots, hits, base)
         }
         Some(SceneKind::Blobs) => unsupported(),
         Some(SceneKind::BlobGroups) => {
             let field = FlatBlobGroups::from_parts(c.iso, words, c.groups as usize, blobs);
             if field.is_valid() {
-                pixel::<P, _>(&field, &setup, c.max_roots, x, y, roots, hits, base)
+                p.run(&field, &setup, c.max_roots, x, y, roots, hits, base)
             } else {
                 unsupported()
             }
@@ -481,27 +777,18 @@ fn render_with<P: PixelTracer>(
     }
 }
 
-/// `P`'s trace of this pixel's window of the root buffer, then the hits.
-#[allow(clippy::too_many_arguments)]
-fn pixel<P: PixelTracer, F: Field<f32>>(
+/// Writes the hits of a traced pixel: its roots (in `roots[base..]`) with
+/// the normals there.
+fn shade<F: Field<f32>>(
     field: &F,
-    setup: &PixelSetup<f32>,
-    max_roots: u32,
-    x: u32,
-    y: u32,
-    roots: &mut [Root<f32>],
+    px: &PixelTrace<f32>,
+    roots: &[Root<f32>],
     hits: &mut [HitOut],
     base: usize,
-) -> PixelOut {
+) {
     // The root buffer is this pixel's window of a storage buffer: rust-gpu
     // can neither sub-slice a mutable storage buffer nor turn a local array
     // into a slice.
-    let n = if max_roots == 0 {
-        1
-    } else {
-        max_roots as usize
-    };
-    let px = P::trace(field, setup, x, y, roots, [base, n]);
     let mut i = 0usize;
     while i < px.trace.roots as usize {
         let root = roots[base + i];
@@ -521,6 +808,10 @@ fn pixel<P: PixelTracer, F: Field<f32>>(
         }
         i += 1;
     }
+}
+
+/// A traced pixel's record.
+fn record(px: &PixelTrace<f32>) -> PixelOut {
     let (has_span, span) = match px.span {
         Some(s) => (1, s),
         None => (0, [0.0; 2]),
@@ -557,7 +848,9 @@ mod tests {
         assert_eq!(c.setup(), Some(setup));
         assert_eq!(c.max_roots, MAX_GPU_ROOTS);
         let w = c.to_words();
-        assert_eq!(core::mem::size_of::<Constants>(), 35 * 4);
+        assert_eq!(core::mem::size_of::<Constants>(), 36 * 4);
+        assert_eq!(core::mem::size_of::<PixelLeg>(), 11 * 4);
+        assert_eq!(w[34], GUARD_LOOPS);
         assert_eq!(w[28], Method::QuadraticMixed as u32);
         assert_eq!(f32::from_bits(w[32]), 0.5);
         let bad = Constants { method: 77, ..c };
@@ -620,6 +913,186 @@ mod tests {
                 assert!(hit_pixels > 4, "{hit_pixels}");
             }
         }
+    }
+
+    #[test]
+    fn sphere_legs_match_one_pass() {
+        use boundtrace_tracer::march::StepGuard;
+        /// Allows `0` steps per leg.
+        struct Steps(u32);
+        impl StepGuard for Steps {
+            fn before_step(&mut self, _steps: u32) -> bool {
+                self.0 = self.0.saturating_sub(1);
+                self.0 > 0
+            }
+            fn after_step(&mut self) -> bool {
+                true
+            }
+        }
+        let k = boundtrace_fields::Kernel::compact(6, 0.9f32).unwrap();
+        let blobs = [
+            PointBlob::new([0.0, 0.0, 0.0], 1.0, k).unwrap(),
+            PointBlob::new([0.3, 0.1, 0.0], 1.0, k).unwrap(),
+        ];
+        let bounds = [[-0.8f32; 3], [0.8; 3]];
+        let mut resumed = 0;
+        for (method, mode) in [
+            (Method::Sphere, Mode::Opaque),
+            (Method::Sphere, Mode::Transparent),
+            (Method::Segment, Mode::Opaque),
+        ] {
+            let setup = PixelSetup {
+                camera: Camera::framing(bounds, [0.2, -0.3, -1.0], 40.0, 1.0).unwrap(),
+                bounds,
+                width: 6,
+                height: 6,
+                method,
+                mode,
+                params: Params::new(),
+            };
+            let c = Constants::new(&setup, SceneKind::Blobs, 0.5, 4, 0);
+            assert_eq!(c.guard_loops, GUARD_LOOPS);
+            let field = Blobs::new_unchecked(0.5, &blobs[..]);
+            for y in 0..6 {
+                for x in 0..6 {
+                    let r = Root {
+                        t: 0.0,
+                        side: Side::Touch,
+                    };
+                    let (mut ra, mut ha) = ([r; 4], [HitOut::default(); 4]);
+                    let a = render_sphere_pixel(&c, &[], &[], &blobs, x, y, &mut ra, &mut ha, 0);
+                    // In one leg (the CPU never cuts a loop short).
+                    let (mut rb, mut hb) = ([r; 4], [HitOut::default(); 4]);
+                    let (mut leg, mut out) = (PixelLeg::default(), PixelOut::default());
+                    render_sphere_leg(
+                        &c,
+                        &[],
+                        &[],
+                        &blobs,
+                        x,
+                        y,
+                        &mut rb,
+                        &mut hb,
+                        0,
+                        &mut leg,
+                        &mut out,
+                    );
+                    assert_eq!(leg.phase, PHASE_DONE);
+                    assert_eq!((out, hb), (a, ha));
+                    // In legs of at most 3 steps.
+                    let c3 = Constants { leg_steps: 3, ..c };
+                    let (mut rl, mut hl) = ([r; 4], [HitOut::default(); 4]);
+                    let (mut legl, mut outl) = (PixelLeg::default(), PixelOut::default());
+                    let mut n = 0;
+                    while legl.phase != PHASE_DONE {
+                        n += 1;
+                        assert!(n < 1000);
+                        render_sphere_leg(
+                            &c3,
+                            &[],
+                            &[],
+                            &blobs,
+                            x,
+                            y,
+                            &mut rl,
+                            &mut hl,
+                            0,
+                            &mut legl,
+                            &mut outl,
+                        );
+                        if legl.phase != PHASE_DONE {
+                            assert_eq!(outl.status, STATUS_PAUSED);
+                        }
+                    }
+                    assert_eq!((outl, hl), (a, ha));
+                    if method == Method::Sphere {
+                        assert_eq!(n, a.steps.max(1).div_ceil(3), "{x} {y}");
+                    }
+                    // Done pixels are left alone.
+                    let before = (leg, out, hb);
+                    render_sphere_leg(
+                        &c,
+                        &[],
+                        &[],
+                        &blobs,
+                        x,
+                        y,
+                        &mut rb,
+                        &mut hb,
+                        0,
+                        &mut leg,
+                        &mut out,
+                    );
+                    assert_eq!((leg, out, hb), before);
+                    // A cut shading is redone.
+                    let (mut leg2, mut hb2) = (
+                        PixelLeg {
+                            phase: PHASE_SHADING,
+                            ..leg
+                        },
+                        [HitOut::default(); 4],
+                    );
+                    render_sphere_leg(
+                        &c,
+                        &[],
+                        &[],
+                        &blobs,
+                        x,
+                        y,
+                        &mut rb,
+                        &mut hb2,
+                        0,
+                        &mut leg2,
+                        &mut out,
+                    );
+                    assert_eq!((leg2.phase, out, hb2), (PHASE_DONE, a, ha));
+                    if method != Method::Sphere {
+                        assert_eq!(out.status, Status::Unsupported as u32);
+                        continue;
+                    }
+                    // Paused after 2 steps by the tracer, resumed by the kernel.
+                    let (mut rc, mut hc) = ([r; 4], [HitOut::default(); 4]);
+                    let mut leg3 = PixelLeg::default();
+                    let px = trace_pixel_with(&setup, x, y, 4, |ray, span| {
+                        leg3.sphere = SphereState::start(span, &setup.params);
+                        let l = trace_sphere_resume_in(
+                            &field,
+                            ray,
+                            span,
+                            mode,
+                            &setup.params,
+                            &mut rc,
+                            [0, 4],
+                            &mut leg3.sphere,
+                            &mut Steps(3),
+                        );
+                        leg3.phase = if l.paused { PHASE_TRACING } else { PHASE_FRESH };
+                        l.trace
+                    });
+                    if leg3.phase != PHASE_TRACING {
+                        continue;
+                    }
+                    assert!(px.span.is_some());
+                    resumed += 1;
+                    let mut out3 = PixelOut::default();
+                    render_sphere_leg(
+                        &c,
+                        &[],
+                        &[],
+                        &blobs,
+                        x,
+                        y,
+                        &mut rc,
+                        &mut hc,
+                        0,
+                        &mut leg3,
+                        &mut out3,
+                    );
+                    assert_eq!((leg3.phase, out3, hc), (PHASE_DONE, a, ha));
+                }
+            }
+        }
+        assert!(resumed > 10, "{resumed}");
     }
 
     #[test]

@@ -6,8 +6,9 @@
 //! Entry points:
 //! - `interval_square`: the toolchain probe (ia-core interval arithmetic
 //!   on the GPU), always built;
-//! - `trace_sphere`: sphere tracing ([`render_sphere_pixel`]), always
-//!   built: a driver that inlines every call (lavapipe) compiles it;
+//! - `trace_sphere`: sphere tracing in resumable legs
+//!   ([`render_sphere_leg`]), always built: a driver that inlines every
+//!   call (lavapipe) compiles it;
 //! - `trace_pixels`: every GPU method ([`render_pixel`]), feature `trace`
 //!   (`BOUNDTRACE_SHADER_FEATURES=trace scripts/build-spirv.sh`): it links,
 //!   but is too large for such a driver (BENCHMARKS.md "GPU").
@@ -16,7 +17,7 @@
 use boundtrace_fields::PointBlob;
 #[cfg(feature = "trace")]
 use boundtrace_gpu_kernel::render_pixel;
-use boundtrace_gpu_kernel::{Constants, HitOut, PixelOut, render_sphere_pixel};
+use boundtrace_gpu_kernel::{Constants, HitOut, PixelLeg, PixelOut, render_sphere_leg};
 use boundtrace_ia_core::Interval;
 use boundtrace_tracer::Root;
 use spirv_std::glam::UVec3;
@@ -71,8 +72,12 @@ pub fn trace_pixels(
     );
 }
 
-/// [`trace_pixels`]'s bindings and layout, sphere tracing only
-/// ([`render_sphere_pixel`]: other methods give `Unsupported` pixels).
+/// [`trace_pixels`]'s bindings and layout plus a per-pixel [`PixelLeg`]
+/// (binding 7): sphere tracing only, resumable ([`render_sphere_leg`]; other
+/// methods give `Unsupported` pixels). The host dispatches it until every
+/// pixel is done, so that a driver's loop limit costs dispatches, never
+/// results.
+#[allow(clippy::too_many_arguments)]
 #[spirv(compute(threads(8, 8)))]
 pub fn trace_sphere(
     #[spirv(global_invocation_id)] id: UVec3,
@@ -83,23 +88,30 @@ pub fn trace_sphere(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] pixels: &mut [PixelOut],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] hits: &mut [HitOut],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] roots: &mut [Root<f32>],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] legs: &mut [PixelLeg],
 ) {
-    trace_entry(
-        id,
-        constants,
-        words,
-        floats,
-        blobs,
-        pixels,
-        hits,
-        roots,
-        render_sphere_pixel,
+    let c = *constants;
+    if id.x >= c.width || id.y >= c.height {
+        return;
+    }
+    let i = (id.y * c.width + id.x) as usize;
+    if i >= pixels.len() || i >= legs.len() {
+        return;
+    }
+    let base = i * c.max_roots as usize;
+    let mut leg = legs[i];
+    let mut out = pixels[i];
+    render_sphere_leg(
+        &c, words, floats, blobs, id.x, id.y, roots, hits, base, &mut leg, &mut out,
     );
+    legs[i] = leg;
+    pixels[i] = out;
 }
 
 /// The body of the tracing entry points: pixel `(id.x, id.y)` of the frame
 /// in `constants`, traced by `render` (a kernel function, called directly:
 /// a generic, not a function pointer), its record written to `pixels`.
+#[cfg(feature = "trace")]
 #[allow(clippy::too_many_arguments)]
 fn trace_entry<R>(
     id: UVec3,

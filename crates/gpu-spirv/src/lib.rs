@@ -56,7 +56,7 @@
 //! drivers the bounds may be off by a few ULP.
 
 use boundtrace_fields::PointBlob;
-use boundtrace_gpu_kernel::{Constants, HitOut, PixelOut, WORKGROUP};
+use boundtrace_gpu_kernel::{Constants, HitOut, PHASE_DONE, PixelLeg, PixelOut, WORKGROUP};
 pub use boundtrace_gpu_kernel::{MAX_GPU_ROOTS, SceneKind};
 use boundtrace_tracer::camera::Camera;
 use boundtrace_tracer::pixel::PixelSetup;
@@ -66,6 +66,7 @@ use boundtrace_tracer::{Method, Mode, RayStats, Side, Status, Trace};
 use std::fmt;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
+use std::sync::atomic::{AtomicU32, Ordering};
 
 /// The command that builds the SPIR-V module (run from the repository root).
 pub const BUILD_COMMAND: &str = "scripts/build-spirv.sh";
@@ -297,6 +298,8 @@ pub struct GpuTracer {
     /// driver may take long or fail to compile it (lavapipe runs out of
     /// memory), so only renders that need it pay.
     general: OnceLock<Result<wgpu::ComputePipeline, String>>,
+    /// The dispatches of the last render ([`GpuTracer::last_dispatches`]).
+    dispatches: AtomicU32,
 }
 
 impl fmt::Debug for GpuTracer {
@@ -309,9 +312,10 @@ impl fmt::Debug for GpuTracer {
 }
 
 /// The shader's storage bindings (binding, read-only): constants, words,
-/// floats, blobs; pixels, hits, and the per-pixel root buffer (scratch,
-/// `max_roots` [`Root`](boundtrace_tracer::Root)s of 2 words per pixel).
-const STORAGE_ENTRIES: [(u32, bool); 7] = [
+/// floats, blobs; pixels, hits, the per-pixel root buffer (scratch,
+/// `max_roots` [`Root`](boundtrace_tracer::Root)s of 2 words per pixel)
+/// and `trace_sphere`'s per-pixel [`PixelLeg`]s.
+const STORAGE_ENTRIES: [(u32, bool); 8] = [
     (0, true),
     (1, true),
     (2, true),
@@ -319,7 +323,11 @@ const STORAGE_ENTRIES: [(u32, bool); 7] = [
     (4, false),
     (5, false),
     (6, false),
+    (7, false),
 ];
+
+/// Words of a [`PixelLeg`].
+const LEG_WORDS: usize = core::mem::size_of::<PixelLeg>() / 4;
 
 impl GpuTracer {
     /// Selects an adapter (high-performance preference; `WGPU_BACKEND`
@@ -388,6 +396,7 @@ impl GpuTracer {
             layout,
             sphere,
             general: OnceLock::new(),
+            dispatches: AtomicU32::new(0),
         })
     }
 
@@ -424,6 +433,14 @@ impl GpuTracer {
         general.as_ref().map_err(|e| unavailable(e.clone()))
     }
 
+    /// How many dispatches the last [`render`](Self::render) took: one for
+    /// the `trace_pixels` methods; for sphere tracing, one per leg (one on
+    /// a driver without a loop limit; on lavapipe, as many as the busiest
+    /// 8 pixels need, see [`render`](Self::render)).
+    pub fn last_dispatches(&self) -> u32 {
+        self.dispatches.load(Ordering::Relaxed)
+    }
+
     /// The adapter in use (name, backend, device type: lavapipe reports
     /// `DeviceType::Cpu`).
     pub fn adapter_info(&self) -> &wgpu::AdapterInfo {
@@ -446,6 +463,25 @@ impl GpuTracer {
         camera: &Camera<f32>,
         settings: &RenderSettings<f32>,
     ) -> Result<Frame<f32>, GpuError> {
+        self.render_in_legs(scene, camera, settings, 0)
+    }
+
+    /// [`render`](Self::render), sphere tracing at most `leg_steps` steps
+    /// per pixel and dispatch (`0`: no limit). The frame is the same; only
+    /// the number of dispatches grows ([`last_dispatches`](Self::last_dispatches)).
+    /// Short dispatches keep a GPU watchdog quiet on heavy frames, and show
+    /// that resumed traces give the uninterrupted result (the difftests).
+    /// Other methods ignore `leg_steps`.
+    ///
+    /// # Errors
+    /// As [`render`](Self::render).
+    pub fn render_in_legs(
+        &self,
+        scene: &GpuScene,
+        camera: &Camera<f32>,
+        settings: &RenderSettings<f32>,
+        leg_steps: u32,
+    ) -> Result<Frame<f32>, GpuError> {
         settings.validate()?;
         let b = scene.bounds;
         if !(0..3).all(|i| b[0][i].is_finite() && b[1][i].is_finite() && b[0][i] <= b[1][i]) {
@@ -466,7 +502,10 @@ impl GpuTracer {
             params: settings.params,
         };
         let pipeline = self.pipeline(settings.method)?;
-        let c = Constants::new(&setup, scene.kind, scene.iso, slots, scene.groups);
+        let c = Constants {
+            leg_steps,
+            ..Constants::new(&setup, scene.kind, scene.iso, slots, scene.groups)
+        };
         let n = settings.width as usize * settings.height as usize;
         let (pix_words, hit_words) = self.run(pipeline, &c, scene, n, n * slots as usize)?;
         let mut pixels = Vec::with_capacity(n);
@@ -551,11 +590,19 @@ impl GpuTracer {
         let outs = [output("pixels", pix_bytes), output("hits", hit_bytes)];
         // The tracer's root buffer: a window of `max_roots` slots per pixel.
         let roots = output("roots", (hits.max(1) * 2 * 4) as u64);
+        // `trace_sphere`'s per-pixel legs, zero-filled by wgpu (`PHASE_FRESH`).
+        let leg_bytes = (pixels.max(1) * LEG_WORDS * 4) as u64;
+        let legs = output("legs", leg_bytes);
         let backs = [
             readback("pixels-read", pix_bytes),
             readback("hits-read", hit_bytes),
         ];
-        let all: Vec<&wgpu::Buffer> = inputs.iter().chain(outs.iter()).chain([&roots]).collect();
+        let legs_back = readback("legs-read", leg_bytes);
+        let all: Vec<&wgpu::Buffer> = inputs
+            .iter()
+            .chain(outs.iter())
+            .chain([&roots, &legs])
+            .collect();
         let entries: Vec<wgpu::BindGroupEntry> = all
             .iter()
             .enumerate()
@@ -570,23 +617,78 @@ impl GpuTracer {
             layout: &pipeline.get_bind_group_layout(0),
             entries: &entries,
         });
-        let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
-        {
-            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
-            pass.set_pipeline(pipeline);
-            pass.set_bind_group(0, &bind, &[]);
-            pass.dispatch_workgroups(c.width.div_ceil(WORKGROUP), c.height.div_ceil(WORKGROUP), 1);
-        }
-        enc.copy_buffer_to_buffer(&outs[0], 0, &backs[0], 0, pix_bytes);
-        enc.copy_buffer_to_buffer(&outs[1], 0, &backs[1], 0, hit_bytes);
-        self.queue.submit([enc.finish()]);
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(GpuError::Dispatch(error_chain(&e)));
         }
+        // Sphere tracing runs in legs: dispatch until every pixel is done.
+        let resumable = std::ptr::eq(pipeline, &self.sphere);
+        let mut dispatches = 0u32;
+        let mut progress = None;
+        loop {
+            let scope = dev.push_error_scope(wgpu::ErrorFilter::Validation);
+            let mut enc =
+                dev.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+            {
+                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+                pass.set_pipeline(pipeline);
+                pass.set_bind_group(0, &bind, &[]);
+                pass.dispatch_workgroups(
+                    c.width.div_ceil(WORKGROUP),
+                    c.height.div_ceil(WORKGROUP),
+                    1,
+                );
+            }
+            if resumable {
+                enc.copy_buffer_to_buffer(&legs, 0, &legs_back, 0, leg_bytes);
+            }
+            self.queue.submit([enc.finish()]);
+            dispatches += 1;
+            self.dispatches.store(dispatches, Ordering::Relaxed);
+            if let Some(e) = pollster::block_on(scope.pop()) {
+                return Err(GpuError::Dispatch(error_chain(&e)));
+            }
+            if !resumable {
+                break;
+            }
+            let words = read_back(dev, &legs_back)?;
+            let (pending, now) = leg_progress(&words[..pixels * LEG_WORDS]);
+            if pending == 0 {
+                break;
+            }
+            if progress == Some(now) {
+                return Err(GpuError::Dispatch(format!(
+                    "{pending} pixels made no progress in a dispatch: one sphere-tracing \
+                     step (or the normals of one pixel) of this scene needs more loop \
+                     iterations than the driver allows in one shader invocation \
+                     (llvmpipe/lavapipe: 65,535 per 8 pixels); use fewer primitives \
+                     or another driver"
+                )));
+            }
+            progress = Some(now);
+        }
+        let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+        enc.copy_buffer_to_buffer(&outs[0], 0, &backs[0], 0, pix_bytes);
+        enc.copy_buffer_to_buffer(&outs[1], 0, &backs[1], 0, hit_bytes);
+        self.queue.submit([enc.finish()]);
         let pixels = read_back(dev, &backs[0])?;
         let hits = read_back(dev, &backs[1])?;
         Ok((pixels, hits))
     }
+}
+
+/// The pixels not done, and a measure of progress that grows whenever a
+/// pixel takes a step or changes phase (the sum of phase·2³² + steps over
+/// the legs' words).
+fn leg_progress(words: &[u32]) -> (usize, u64) {
+    let mut pending = 0;
+    let mut total = 0u64;
+    for leg in words.chunks_exact(LEG_WORDS) {
+        // Word 10 is the phase, word 7 the steps (`SphereState::stats`).
+        let phase = leg[LEG_WORDS - 1];
+        pending += usize::from(phase < PHASE_DONE);
+        total += (u64::from(phase) << 32) + u64::from(leg[7]);
+    }
+    (pending, total)
 }
 
 /// The tracing pipeline of `entry` (8 × 8 workgroups, the shared layout);
@@ -688,19 +790,20 @@ fn shader_module(
     entry: &str,
     workgroup: (u32, u32, u32),
 ) -> wgpu::ShaderModule {
+    let words: Vec<u32> = bytes
+        .chunks_exact(4)
+        .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        .collect();
+    let words = forbid_contraction(&words);
     if !device
         .features()
         .contains(wgpu::Features::PASSTHROUGH_SHADERS)
     {
         return device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("boundtrace-gpu-shader"),
-            source: wgpu::util::make_spirv(bytes),
+            source: wgpu::ShaderSource::SpirV(words.into()),
         });
     }
-    let words: Vec<u32> = bytes
-        .chunks_exact(4)
-        .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-        .collect();
     let desc = wgpu::ShaderModuleDescriptorPassthrough {
         label: Some("boundtrace-gpu-shader"),
         entry_points: vec![wgpu::PassthroughShaderEntryPoint {
@@ -719,6 +822,53 @@ fn shader_module(
     unsafe {
         device.create_shader_module_passthrough(desc)
     }
+}
+
+/// The module with every float product, sum and difference decorated
+/// `NoContraction`.
+///
+/// Without it a driver may fuse `a·b + c` into one fused multiply-add
+/// (Vulkan allows it; lavapipe's compiler does), which rounds once instead
+/// of twice: the GPU would then compute other values than the CPU, which
+/// Rust never contracts, and "same code, same result" fails on long rays
+/// (a step count off by one or two). rust-gpu 0.11 emits no such
+/// decorations, so the host adds them: `OpDecorate %r NoContraction` for
+/// each result `%r` of `OpFMul`, `OpFAdd` and `OpFSub`, placed before the
+/// module's first annotation. A module that is not valid SPIR-V is
+/// returned unchanged (the driver rejects it later with its own error).
+fn forbid_contraction(words: &[u32]) -> Vec<u32> {
+    const OP_DECORATE: u32 = 71;
+    const NO_CONTRACTION: u32 = 42;
+    // OpFAdd, OpFSub, OpFMul: `opcode | result type | result | a | b`.
+    const FLOAT_OPS: [u32; 3] = [129, 131, 133];
+    let mut results = Vec::new();
+    let mut first_annotation = None;
+    let mut i = 5;
+    while i < words.len() {
+        let (len, op) = ((words[i] >> 16) as usize, words[i] & 0xffff);
+        if len == 0 || i + len > words.len() {
+            return words.to_vec();
+        }
+        // The annotation opcodes: OpDecorate … OpGroupMemberDecorate,
+        // OpDecorateId, OpDecorateString, OpMemberDecorateString.
+        if first_annotation.is_none() && matches!(op, 71..=75 | 332 | 5632 | 5633) {
+            first_annotation = Some(i);
+        }
+        if FLOAT_OPS.contains(&op) && len == 5 {
+            results.push(words[i + 2]);
+        }
+        i += len;
+    }
+    let Some(at) = first_annotation else {
+        return words.to_vec();
+    };
+    let mut out = Vec::with_capacity(words.len() + 3 * results.len());
+    out.extend_from_slice(&words[..at]);
+    for r in results {
+        out.extend_from_slice(&[(3 << 16) | OP_DECORATE, r, NO_CONTRACTION]);
+    }
+    out.extend_from_slice(&words[at..]);
+    out
 }
 
 /// Reads the module from [`default_spirv_path`].
@@ -975,6 +1125,47 @@ mod tests {
         assert!(entry_points(&[]).is_empty());
         // A truncated instruction ends the scan without panicking.
         assert_eq!(entry_points(&bytes[..bytes.len() - 40]).len(), 1);
+    }
+
+    #[test]
+    fn float_arithmetic_is_decorated_no_contraction() {
+        let header = [0x0723_0203, 0x0001_0300, 0, 20, 0];
+        let body = [
+            (2 << 16) | 17, // OpCapability Shader
+            1,
+            (4 << 16) | 71, // OpDecorate %7 Binding 0
+            7,
+            33,
+            0,
+            (3 << 16) | 22, // %2 = OpTypeFloat 32
+            2,
+            32,
+            (5 << 16) | 133, // %9 = OpFMul %2 %5 %6
+            2,
+            9,
+            5,
+            6,
+            (5 << 16) | 129, // %10 = OpFAdd %2 %9 %6
+            2,
+            10,
+            9,
+            6,
+            (5 << 16) | 128, // %11 = OpIAdd (not a float op)
+            2,
+            11,
+            5,
+            6,
+        ];
+        let module: Vec<u32> = header.iter().chain(&body).copied().collect();
+        let out = forbid_contraction(&module);
+        let decorations = [(3 << 16) | 71, 9, 42, (3 << 16) | 71, 10, 42];
+        assert_eq!(out.len(), module.len() + 6);
+        assert_eq!(&out[..7], &module[..7]);
+        assert_eq!(&out[7..13], &decorations);
+        assert_eq!(&out[13..], &module[7..]);
+        // A truncated module is left alone.
+        let cut = &module[..module.len() - 2];
+        assert_eq!(forbid_contraction(cut), cut);
     }
 
     #[test]

@@ -7,7 +7,7 @@
 //! ≥ 99.9 %.
 //!
 //! Sphere tracing (the module's `trace_sphere` entry point) runs in CI on
-//! lavapipe. The other methods need the `trace_pixels` entry point (the
+//! lavapipe, every pixel compared. The other methods need the `trace_pixels` entry point (the
 //! shader's `trace` feature: `BOUNDTRACE_SHADER_FEATURES=trace
 //! scripts/build-spirv.sh`), which links but is too large for a driver
 //! that inlines every call (lavapipe: BENCHMARKS.md "GPU"); their tests are
@@ -22,7 +22,7 @@ use boundtrace_gpu::{GpuError, GpuScene, GpuTracer, MAX_GPU_ROOTS};
 use boundtrace_tracer::camera::Camera;
 use boundtrace_tracer::render::{Frame, RenderSettings, render_serial};
 use boundtrace_tracer::scenes::{DEFAULT_SEED, Scene};
-use boundtrace_tracer::{Method, Mode, Status};
+use boundtrace_tracer::{Method, Mode};
 use std::sync::OnceLock;
 
 const SIZE: u32 = 32;
@@ -128,7 +128,10 @@ fn run(mode: Mode, methods: &[Method], scenes: &[&str]) {
             let cpu = render_serial(scene.field(), &camera, scene.bounds(), &settings).unwrap();
             let g = gpu.render(&data, &camera, &settings).unwrap();
             match compare(&cpu, &g) {
-                Ok(s) => eprintln!("ok   {name:20} {method:20} {mode:?}: {s}"),
+                Ok(s) => eprintln!(
+                    "ok   {name:20} {method:20} {mode:?}: {s}; {} dispatches",
+                    gpu.last_dispatches()
+                ),
                 Err(s) => {
                     eprintln!("FAIL {name:20} {method:20} {mode:?}: {s}");
                     failures.push(format!("{name} {method} {mode:?}: {s}"));
@@ -143,21 +146,33 @@ fn run(mode: Mode, methods: &[Method], scenes: &[&str]) {
     );
 }
 
+/// Sphere tracing (the module's `trace_sphere` entry point, run in CI on
+/// lavapipe) against the CPU on every pixel of both scenes, opaque and
+/// transparent, with the issue's thresholds.
+///
+/// On lavapipe, llvmpipe's loop limit (65,535 loop iterations per 8-lane
+/// group) cuts the busiest rays of `blobs-sum` short in one dispatch: the
+/// shader traces in legs that a cut undoes, and the host dispatches until
+/// every pixel is done. The test checks that this happened there (more
+/// than one dispatch on a CPU adapter) and still matches the CPU.
 #[test]
-#[ignore = "lavapipe (llvmpipe) ends the loops of an 8-lane SIMD group after 65,535 iterations in all: busy rays stop early as MaxSteps (20-43 % of the pixels at 32x32; BENCHMARKS.md GPU). Run on a driver without that cap"]
 fn sphere_matches_the_cpu_in_both_modes() {
+    let Some(g) = gpu() else { return };
     run(Mode::Opaque, &[Method::Sphere], &SCENES);
     run(Mode::Transparent, &[Method::Sphere], &SCENES);
+    // The last frame rendered: blobs-sum, transparent.
+    let legs = g.last_dispatches();
+    eprintln!("blobs-sum transparent: {legs} dispatches");
+    if g.adapter_info().device_type == wgpu::DeviceType::Cpu {
+        assert!(legs > 1, "lavapipe traced blobs-sum in one dispatch");
+    }
 }
 
-/// What runs on lavapipe in CI: `trace_sphere` against the CPU on every
-/// pixel the GPU traced to the end (status `Finished` on the GPU) —
-/// identical status, step counts identical on ≥ 99 %, hit/miss identical
-/// and depths within 1e-3 relative. The pixels llvmpipe's loop cap cut
-/// short (status `MaxSteps` on the GPU only) are counted and printed; at
-/// least half of each frame must be compared (measured: 57–80 %).
+/// Resumption on the GPU: sphere tracing in legs of at most 7 steps per
+/// dispatch gives the frame of unlimited legs, bit for bit (records, roots
+/// and normals), in both modes.
 #[test]
-fn sphere_pixels_traced_to_the_end_match_the_cpu() {
+fn sphere_in_short_legs_matches_unlimited_legs() {
     let Some(gpu) = gpu() else { return };
     let mut failures = Vec::new();
     for name in SCENES {
@@ -165,54 +180,43 @@ fn sphere_pixels_traced_to_the_end_match_the_cpu() {
         let data = GpuScene::from_scene(&scene).unwrap();
         let camera = Camera::framing(scene.bounds(), [0.3, -0.4, -1.0], 40.0, 1.0).unwrap();
         for mode in [Mode::Opaque, Mode::Transparent] {
-            let settings = RenderSettings::new(SIZE, SIZE, Method::Sphere)
+            let settings = RenderSettings::new(16, 16, Method::Sphere)
                 .unwrap()
                 .with_mode(mode)
                 .with_max_roots(MAX_GPU_ROOTS)
                 .unwrap();
-            let cpu = render_serial(scene.field(), &camera, scene.bounds(), &settings).unwrap();
-            let g = gpu.render(&data, &camera, &settings).unwrap();
-            let (mut compared, mut cut, mut hit_diff, mut step_diff, mut status_diff) =
-                (0usize, 0usize, 0usize, 0usize, 0usize);
-            let mut worst = 0.0f32;
-            for y in 0..SIZE {
-                for x in 0..SIZE {
-                    let (a, b) = (cpu.pixel(x, y).unwrap(), g.pixel(x, y).unwrap());
-                    if b.trace.status == Status::MaxSteps && a.trace.status != Status::MaxSteps {
-                        cut += 1;
-                        continue;
-                    }
-                    compared += 1;
-                    status_diff += usize::from(a.trace.status != b.trace.status);
-                    step_diff += usize::from(a.trace.stats.steps != b.trace.stats.steps);
-                    let (ha, hb) = (cpu.hits(x, y), g.hits(x, y));
-                    hit_diff += usize::from(ha.len() != hb.len());
-                    for (p, q) in ha.iter().zip(hb) {
-                        worst = worst.max((p.t - q.t).abs() / p.t.abs().max(1e-6));
-                    }
+            let whole = gpu.render(&data, &camera, &settings).unwrap();
+            let d0 = gpu.last_dispatches();
+            let legs = gpu.render_in_legs(&data, &camera, &settings, 7).unwrap();
+            let d7 = gpu.last_dispatches();
+            let max_steps = (0..16 * 16)
+                .map(|i| whole.pixel(i % 16, i / 16).unwrap().trace.stats.steps)
+                .max()
+                .unwrap();
+            let mut differ = 0;
+            for y in 0..16 {
+                for x in 0..16 {
+                    let (a, b) = (whole.pixel(x, y).unwrap(), legs.pixel(x, y).unwrap());
+                    let same_hits = whole.hits(x, y).len() == legs.hits(x, y).len()
+                        && whole.hits(x, y).iter().zip(legs.hits(x, y)).all(|(p, q)| {
+                            p.t.to_bits() == q.t.to_bits()
+                                && p.side == q.side
+                                && p.normal.map(f32::to_bits) == q.normal.map(f32::to_bits)
+                        });
+                    differ += usize::from(a != b || !same_hits);
                 }
             }
             let summary = format!(
-                "{name} {mode:?}: {compared} pixels compared, {cut} cut short by the loop cap; \
-                 status differs {status_diff}, steps differ {step_diff}, roots differ \
-                 {hit_diff}; worst relative depth {worst:.2e}"
+                "{name} {mode:?}: {differ} of 256 pixels differ; {d0} dispatches unlimited, \
+                 {d7} in legs of 7 steps (max {max_steps} steps)"
             );
             eprintln!("{summary}");
-            let ok = status_diff == 0
-                && hit_diff == 0
-                && step_diff * 100 <= compared
-                && worst <= 1e-3
-                && compared * 2 >= (SIZE * SIZE) as usize;
-            if !ok {
+            if differ > 0 || d7 < max_steps.div_ceil(7) {
                 failures.push(summary);
             }
         }
     }
-    assert!(
-        failures.is_empty(),
-        "GPU/CPU differences:\n{}",
-        failures.join("\n")
-    );
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
 #[test]

@@ -91,5 +91,6 @@ pub mod trace;
 pub use camera::Camera;
 pub use method::{InvalidParams, Method, Mode, Params, UnknownMethod};
 pub use trace::{
-    RayStats, Root, Side, Status, Trace, first_root, normal, trace, trace_in, trace_sphere_in,
+    Leg, RayStats, Root, Side, Status, Trace, first_root, normal, trace, trace_in, trace_sphere_in,
+    trace_sphere_resume_in,
 };

@@ -673,75 +673,250 @@ pub(crate) fn sphere<T: Real, F: Field<T>>(
     params: &Params<T>,
     roots: RootSlots<'_, T>,
 ) -> Trace<T> {
+    let mut state = SphereState::start(span, params);
+    // `Unguarded` never pauses: the run always ends with a final record.
+    sphere_run(
+        field,
+        ray,
+        span,
+        mode,
+        params,
+        roots,
+        &mut state,
+        &mut Unguarded,
+    )
+    .trace
+}
+
+/// Everything a sphere trace carries from one step to the next, so that it
+/// can pause between two steps and resume later with the same result as
+/// an uninterrupted trace ([`trace_sphere_resume_in`](crate::trace_sphere_resume_in)).
+///
+/// `#[repr(C)]`, 10 words for `f32`: the GPU keeps one per pixel in a
+/// storage buffer between dispatches. The root buffer (roots `0..roots`)
+/// is kept by the caller.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C)]
+pub struct SphereState<T> {
+    /// The ray parameter the next step starts from.
+    pub t: T,
+    /// The over-relaxation factor still in force (`1` once an over-relaxed
+    /// step failed).
+    pub omega: T,
+    /// The enclosure of `f(t)` when it is already known (`has_known != 0`):
+    /// its `[lo, hi]`.
+    pub known: [T; 2],
+    /// `1` when `known` holds the enclosure of `f(t)`, else `0`.
+    pub has_known: u32,
+    /// The sign of `f` before `t` (`0` at the start of the span).
+    pub prev: i32,
+    /// Roots registered so far.
+    pub roots: u32,
+    /// The counters so far.
+    pub stats: RayStats,
+}
+
+impl<T: Real> SphereState<T> {
+    /// The state before the first step on `span`.
+    pub fn start(span: [T; 2], params: &Params<T>) -> Self {
+        Self {
+            t: span[0],
+            omega: params.omega,
+            known: [T::ZERO; 2],
+            has_known: 0,
+            prev: 0,
+            roots: 0,
+            stats: RayStats::default(),
+        }
+    }
+}
+
+/// Decides, between two steps of a resumable trace, whether it goes on.
+///
+/// A GPU driver may cut a shader's loops short (lavapipe's loop limiter,
+/// BENCHMARKS.md "GPU"): a guard that detects it lets the trace undo the
+/// step whose loops were cut and pause before it, so the host can resume
+/// it in a new dispatch with a fresh limit. On the CPU, [`Unguarded`].
+pub trait StepGuard {
+    /// Called before each step, with the steps taken so far: `false`
+    /// pauses the trace there.
+    fn before_step(&mut self, steps: u32) -> bool;
+    /// Called after each step: `false` says the step's work cannot be
+    /// trusted; the step is undone and the trace pauses before it.
+    fn after_step(&mut self) -> bool;
+}
+
+/// The guard that never pauses a trace.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Unguarded;
+
+impl StepGuard for Unguarded {
+    #[inline]
+    fn before_step(&mut self, _steps: u32) -> bool {
+        true
+    }
+    #[inline]
+    fn after_step(&mut self) -> bool {
+        true
+    }
+}
+
+/// [`sphere`] from `st`, under `guard`: `stop` with the final record, or
+/// paused (`!stop`, `trace` the counts so far) with `st` where to resume.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn sphere_run<T: Real, F: Field<T>, G: StepGuard>(
+    field: &F,
+    ray: &Ray<T>,
+    span: [T; 2],
+    mode: Mode,
+    params: &Params<T>,
+    roots: RootSlots<'_, T>,
+    st: &mut SphereState<T>,
+    guard: &mut G,
+) -> Next<T> {
     let [t0, t1] = span;
     let mut w = Walk::new(roots, mode, params.eps);
+    w.n = st.roots;
+    w.stats = st.stats;
     let Some(l) = field.lipschitz() else {
-        return w.done(Status::Unsupported, t0);
+        return w.stop(Status::Unsupported, t0);
     };
     let lambda = round::mul_up(l, ray.speed());
     if !(lambda > T::ZERO) || !lambda.is_finite() {
-        return w.done(Status::Unsupported, t0);
+        return w.stop(Status::Unsupported, t0);
     }
-    let eps = params.eps;
-    let mut omega = params.omega;
-    let mut t = t0;
-    let mut prev = 0i32;
-    // The enclosure of f at t when it is already known (after an
-    // over-relaxed step), to avoid evaluating it twice.
-    let mut known: Option<Interval<T>> = None;
+    let mut s = Sphere {
+        t: st.t,
+        prev: st.prev,
+        omega: st.omega,
+        known: if st.has_known != 0 {
+            Some(Interval::new(st.known[0], st.known[1]))
+        } else {
+            None
+        },
+    };
     loop {
-        if !(t < t1) {
-            return w.done(Status::Finished, t1);
+        if !(s.t < t1) {
+            return w.stop(Status::Finished, t1);
         }
         if w.stats.steps >= params.max_steps {
-            return w.done(Status::MaxSteps, t);
+            return w.stop(Status::MaxSteps, s.t);
         }
-        w.stats.steps += 1;
-        let f = match known.take() {
-            Some(f) => f,
-            None => {
-                w.stats.field_evals += 1;
-                value_enclosure(field, ray, t)
-            }
-        };
-        let s = sign_of(f);
-        // |f| / λ, rounded down: the proven root-free length.
-        let r = if s == 0 {
-            T::ZERO
+        if !guard.before_step(w.stats.steps) {
+            return s.pause(&w, st);
+        }
+        // What the step may change, to undo it: the loop variables, the
+        // counters and the last root (a crossing may replace a touch).
+        let (before, n, stats) = (s, w.n, w.stats);
+        let last = if n > 0 {
+            w.roots.get(n as usize - 1)
         } else {
-            round::div_down(f.mig(), lambda)
+            Root {
+                t: T::ZERO,
+                side: Side::Touch,
+            }
         };
-        if r < eps {
-            let p = probe(field, ray, t, t1, s, prev, r, eps, &mut w);
-            if p.next.stop {
-                return p.next.trace;
+        let next = sphere_step(field, ray, t1, lambda, params, &mut s, &mut w);
+        if !guard.after_step() {
+            if n > 0 {
+                w.roots.set(n as usize - 1, last);
             }
-            (t, prev) = (p.t, p.sign);
-            continue;
+            (s, w.n, w.stats) = (before, n, stats);
+            return s.pause(&w, st);
         }
-        prev = s;
-        if omega > T::ONE {
-            let step = r * omega;
-            let tn = advance(t, step).min(t1);
-            let fn_ = value_enclosure(field, ray, tn);
-            w.stats.field_evals += 1;
-            // Root-free radius around tn (0 if the sign changed or is unknown).
-            let rn = if sign_of(fn_) == s {
-                round::div_down(fn_.mig(), lambda)
-            } else {
-                T::ZERO
-            };
-            if round::add_down(r, rn) >= tn - t || tn >= t1 {
-                t = tn;
-                known = Some(fn_);
-                continue;
-            }
-            // Failed: fall back to the safe step, no more over-relaxation.
-            omega = T::ONE;
+        if next.stop {
+            return next;
         }
-        let step = min_step_extension(field, ray, t, t1, r, s, params, &mut w.stats);
-        t = advance(t, step);
     }
+}
+
+/// The loop variables of [`sphere_run`].
+#[derive(Clone, Copy)]
+struct Sphere<T> {
+    t: T,
+    prev: i32,
+    omega: T,
+    /// The enclosure of f at t when it is already known (after an
+    /// over-relaxed step), to avoid evaluating it twice.
+    known: Option<Interval<T>>,
+}
+
+impl<T: Real> Sphere<T> {
+    /// Saves the loop into `st` and answers "paused".
+    fn pause(&self, w: &Walk<'_, T>, st: &mut SphereState<T>) -> Next<T> {
+        let (known, has_known) = match self.known {
+            Some(k) => ([k.lo(), k.hi()], 1),
+            None => ([T::ZERO; 2], 0),
+        };
+        *st = SphereState {
+            t: self.t,
+            omega: self.omega,
+            known,
+            has_known,
+            prev: self.prev,
+            roots: w.n,
+            stats: w.stats,
+        };
+        w.go(self.t)
+    }
+}
+
+/// One step of [`sphere_run`] from `s.t` (before `t1`): `stop` with the
+/// final record, or go on from the updated `s`.
+fn sphere_step<T: Real, F: Field<T>>(
+    field: &F,
+    ray: &Ray<T>,
+    t1: T,
+    lambda: T,
+    params: &Params<T>,
+    s: &mut Sphere<T>,
+    w: &mut Walk<'_, T>,
+) -> Next<T> {
+    let eps = params.eps;
+    let t = s.t;
+    w.stats.steps += 1;
+    let f = match s.known.take() {
+        Some(f) => f,
+        None => {
+            w.stats.field_evals += 1;
+            value_enclosure(field, ray, t)
+        }
+    };
+    let sg = sign_of(f);
+    // |f| / λ, rounded down: the proven root-free length.
+    let r = if sg == 0 {
+        T::ZERO
+    } else {
+        round::div_down(f.mig(), lambda)
+    };
+    if r < eps {
+        let p = probe(field, ray, t, t1, sg, s.prev, r, eps, w);
+        (s.t, s.prev) = (p.t, p.sign);
+        return p.next;
+    }
+    s.prev = sg;
+    if s.omega > T::ONE {
+        let step = r * s.omega;
+        let tn = advance(t, step).min(t1);
+        let fn_ = value_enclosure(field, ray, tn);
+        w.stats.field_evals += 1;
+        // Root-free radius around tn (0 if the sign changed or is unknown).
+        let rn = if sign_of(fn_) == sg {
+            round::div_down(fn_.mig(), lambda)
+        } else {
+            T::ZERO
+        };
+        if round::add_down(r, rn) >= tn - t || tn >= t1 {
+            s.t = tn;
+            s.known = Some(fn_);
+            return w.go(tn);
+        }
+        // Failed: fall back to the safe step, no more over-relaxation.
+        s.omega = T::ONE;
+    }
+    let step = min_step_extension(field, ray, t, t1, r, sg, params, &mut w.stats);
+    s.t = advance(t, step);
+    w.go(s.t)
 }
 
 #[cfg(test)]
@@ -858,6 +1033,89 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// A guard that allows `left` steps per leg and rejects every `undo`-th
+    /// step after the fact (as a driver's loop limiter would).
+    struct Faulty<'a> {
+        left: u32,
+        undo: u32,
+        calls: &'a mut u32,
+    }
+    impl StepGuard for Faulty<'_> {
+        fn before_step(&mut self, _steps: u32) -> bool {
+            if self.left == 0 {
+                return false;
+            }
+            self.left -= 1;
+            true
+        }
+        fn after_step(&mut self) -> bool {
+            *self.calls += 1;
+            *self.calls % self.undo != 0
+        }
+    }
+
+    #[test]
+    fn sphere_in_legs_matches_one_trace() {
+        use crate::trace::{trace_sphere_in, trace_sphere_resume_in};
+        // Two thin shells and a ball: touches, crossings and over-relaxed
+        // steps that fail (ω = 1.9), many roots in transparent mode.
+        struct Shells;
+        impl Field<f64> for Shells {
+            fn eval<N: FieldNum<f64>>(&self, p: [N; 3]) -> N {
+                let r = (p[0].sqr() + p[1].sqr() + p[2].sqr()).sqrt();
+                let a = (r - 1.0).abs() - 0.01;
+                let b = (r - 2.0).abs() - 0.02;
+                a.min(b).min(r - 0.3)
+            }
+            fn lipschitz(&self) -> Option<f64> {
+                Some(1.0)
+            }
+        }
+        let mut legs_seen = 0;
+        for omega in [1.0, 1.9] {
+            let p = Params::new().with_omega(omega).unwrap();
+            for y in [0.0, 0.5, 0.99, 1.005, 2.01, 2.5] {
+                let ray = Ray::new([-3.0, y, 0.1], [1.0, 0.0, 0.0]);
+                for mode in [Mode::Opaque, Mode::Transparent] {
+                    for (every, undo) in [(1, 1000), (2, 3), (5, 2), (7, 1000), (1000, 4)] {
+                        let span = [0.0, 6.0];
+                        let window = [1, 6];
+                        let mut once = [NONE; 8];
+                        let whole =
+                            trace_sphere_in(&Shells, &ray, span, mode, &p, &mut once, window);
+                        let mut buf = [NONE; 8];
+                        let mut st = SphereState::start(span, &p);
+                        let mut calls = 0;
+                        let mut legs = 0;
+                        let last = loop {
+                            legs += 1;
+                            assert!(legs < 10_000, "no progress");
+                            let mut guard = Faulty {
+                                left: every,
+                                undo,
+                                calls: &mut calls,
+                            };
+                            let leg = trace_sphere_resume_in(
+                                &Shells, &ray, span, mode, &p, &mut buf, window, &mut st,
+                                &mut guard,
+                            );
+                            if !leg.paused {
+                                break leg.trace;
+                            }
+                        };
+                        legs_seen += legs;
+                        assert_eq!(last, whole, "y {y} {mode:?} ω {omega} {every}/{undo}");
+                        for (x, z) in once.iter().zip(&buf) {
+                            assert_eq!((x.t.to_bits(), x.side), (z.t.to_bits(), z.side));
+                        }
+                    }
+                }
+            }
+        }
+        // The guards did pause the traces.
+        assert!(legs_seen > 500, "{legs_seen}");
     }
 
     #[test]

@@ -231,6 +231,105 @@ pub fn trace_sphere_in<T: Real, F: Field<T>>(
     march::sphere(field, ray, span, mode, params, slots)
 }
 
+/// The outcome of one call of [`trace_sphere_resume_in`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Leg<T> {
+    /// The trace paused between two steps (its guard said so); the state
+    /// says where to resume, `trace` holds the counts so far.
+    pub paused: bool,
+    /// The final record when not `paused`.
+    pub trace: Trace<T>,
+}
+
+/// [`trace_sphere_in`] in legs: sphere tracing from `state` (start with
+/// [`SphereState::start`](crate::march::SphereState::start)), pausing
+/// where `guard` says so and saving the loop into `state`. Called again
+/// with the same arguments and the saved state, it goes on exactly where
+/// it stopped: the legs of a trace give the roots, record and counters of
+/// the uninterrupted [`trace_sphere_in`], whatever the pauses.
+///
+/// The GPU shader traces this way so that a driver cutting loops short
+/// costs a dispatch, never a result ([`StepGuard`](crate::march::StepGuard)).
+///
+/// ```
+/// use boundtrace_inclusion::{Field, FieldNum, Ray};
+/// use boundtrace_tracer::march::{SphereState, StepGuard, Unguarded};
+/// use boundtrace_tracer::{Mode, Params, Root, Side, trace_sphere_in, trace_sphere_resume_in};
+///
+/// struct Ball;
+/// impl Field<f64> for Ball {
+///     fn eval<N: FieldNum<f64>>(&self, p: [N; 3]) -> N {
+///         (p[0].sqr() + p[1].sqr() + p[2].sqr()).sqrt() - 0.5
+///     }
+///     fn lipschitz(&self) -> Option<f64> {
+///         Some(1.0)
+///     }
+/// }
+/// /// Allows three steps per leg.
+/// struct Three(u32);
+/// impl StepGuard for Three {
+///     fn before_step(&mut self, _steps: u32) -> bool {
+///         self.0 += 1;
+///         self.0 <= 3
+///     }
+///     fn after_step(&mut self) -> bool {
+///         true
+///     }
+/// }
+/// let ray = Ray::new([0.0, 0.1, -2.0], [0.0, 0.0, 1.0]);
+/// let (span, params) = ([0.0, 4.0], Params::new());
+/// let blank = Root { t: 0.0, side: Side::Touch };
+/// let mut whole = [blank; 4];
+/// let once = trace_sphere_in(&Ball, &ray, span, Mode::Transparent, &params, &mut whole, [0, 4]);
+///
+/// let mut roots = [blank; 4];
+/// let mut state = SphereState::start(span, &params);
+/// let mut legs = 0;
+/// let last = loop {
+///     legs += 1;
+///     let leg = trace_sphere_resume_in(
+///         &Ball, &ray, span, Mode::Transparent, &params, &mut roots, [0, 4],
+///         &mut state, &mut Three(0),
+///     );
+///     if !leg.paused {
+///         break leg.trace;
+///     }
+/// };
+/// assert!(legs > 1);
+/// assert_eq!((last, roots), (once, whole));
+/// # let _ = Unguarded;
+/// ```
+#[allow(clippy::too_many_arguments)]
+pub fn trace_sphere_resume_in<T: Real, F: Field<T>, G: march::StepGuard>(
+    field: &F,
+    ray: &Ray<T>,
+    span: [T; 2],
+    mode: Mode,
+    params: &Params<T>,
+    roots: &mut [Root<T>],
+    window: [usize; 2],
+    state: &mut march::SphereState<T>,
+    guard: &mut G,
+) -> Leg<T> {
+    if !accepts(span, params, roots.len(), window) {
+        return Leg {
+            paused: false,
+            trace: unsupported_trace(span),
+        };
+    }
+    let [base, len] = window;
+    let slots = march::RootSlots {
+        buf: roots,
+        base,
+        len,
+    };
+    let next = march::sphere_run(field, ray, span, mode, params, slots, state, guard);
+    Leg {
+        paused: !next.stop,
+        trace: next.trace,
+    }
+}
+
 /// The first root of `ray` on `span` (opaque mode), with the trace record.
 pub fn first_root<T: Real, F: Field<T>>(
     field: &F,
