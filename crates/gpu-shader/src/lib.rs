@@ -6,6 +6,8 @@
 //! Entry points:
 //! - `interval_square`: the toolchain probe (ia-core interval arithmetic
 //!   on the GPU), always built;
+//! - `arith_ops`: the arithmetic probe (`÷ × + −` as the driver computes
+//!   them), always built;
 //! - `trace_sphere`: sphere tracing in resumable legs
 //!   ([`render_sphere_leg`]), always built: a driver that inlines every
 //!   call (lavapipe) compiles it;
@@ -34,6 +36,25 @@ pub fn interval_square(
     if i < data.len() {
         let x = Interval::new(data[i], data[i] + 1.0);
         data[i] = x.sqr().hi();
+    }
+}
+
+/// Arithmetic probe: for each `[a, b, _, _]` in `data`, writes
+/// `[a / b, a · b, a + b, a − b]` as the GPU computes them, for the host to
+/// compare with the CPU's correctly rounded results (the interval code's
+/// outward rounding assumes them).
+#[spirv(compute(threads(64)))]
+pub fn arith_ops(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] data: &mut [f32],
+) {
+    let i = id.x as usize * 4;
+    if i + 3 < data.len() {
+        let (a, b) = (data[i], data[i + 1]);
+        data[i] = a / b;
+        data[i + 1] = a * b;
+        data[i + 2] = a + b;
+        data[i + 3] = a - b;
     }
 }
 

@@ -63,6 +63,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let settings = RenderSettings::new(size, size, method)?;
             let (mut best_cpu, mut best_gpu) = (f64::INFINITY, f64::INFINITY);
             let (mut cpu_frame, mut gpu_frame) = (None, None);
+            let mut dispatches = 0;
             for _ in 0..repeats {
                 let t = Instant::now();
                 cpu_frame = Some(render_serial(
@@ -73,10 +74,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 )?);
                 best_cpu = best_cpu.min(t.elapsed().as_secs_f64());
                 let t = Instant::now();
-                gpu_frame = Some(gpu.render(&data, &camera, &settings)?);
+                let (frame, d) = gpu.render_in_legs(&data, &camera, &settings, 0)?;
+                (gpu_frame, dispatches) = (Some(frame), d);
                 best_gpu = best_gpu.min(t.elapsed().as_secs_f64());
             }
-            let dispatches = gpu.last_dispatches();
             let (c, g) = (cpu_frame.unwrap(), gpu_frame.unwrap());
             let (mut agree, mut steps) = (0, 0);
             for y in 0..size {

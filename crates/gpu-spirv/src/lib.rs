@@ -4,8 +4,9 @@
 //! for users), and returns the same [`Frame`] type as the CPU renderer.
 //!
 //! The shader is a thin wrapper: each invocation calls
-//! [`boundtrace_gpu_kernel::render_sphere_pixel`] or
+//! [`boundtrace_gpu_kernel::render_sphere_leg`] or
 //! [`boundtrace_gpu_kernel::render_pixel`], which call the tracer's
+//! [`trace_sphere_resume_in`](boundtrace_tracer::trace_sphere_resume_in) /
 //! [`trace_pixel`](boundtrace_tracer::pixel::trace_pixel) and
 //! [`normal`](boundtrace_tracer::normal) over the scene's flat data — the
 //! same code the CPU runs. Scenes are buffers ([`GpuScene`]), so a new
@@ -28,19 +29,21 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
-//! **Status** (issue 9, open): the module's `trace_sphere` entry point —
-//! [`boundtrace_gpu_kernel::render_sphere_pixel`], i.e. the tracer's
-//! `trace_sphere_in` — runs on lavapipe and matches the CPU on every pixel
-//! it traces to the end (CI: `tests/difftest.rs`); [`interval_probe`]
-//! runs `boundtrace-ia-core` interval code bit-identically to the CPU. The
+//! **Status** (issue 9, open): sphere tracing runs on the GPU and gives
+//! the CPU's frame: the module's `trace_sphere` entry point traces each
+//! pixel in resumable legs ([`boundtrace_gpu_kernel::render_sphere_leg`]),
+//! and [`GpuTracer::render`] dispatches until every pixel is done. On
+//! lavapipe, llvmpipe stops every loop of an 8-lane group after 65,535
+//! loop iterations in all, silently; a probe loop after each step sees
+//! it, the step is undone and the pixel resumes in the next dispatch, so
+//! the limit costs dispatches, never results (CI: `tests/difftest.rs`,
+//! every pixel of both blob scenes in both modes). [`interval_probe`] and
+//! [`arith_probe`] check the driver's arithmetic against the CPU's. The
 //! other methods live in the `trace_pixels` entry point
 //! ([`render_pixel`](boundtrace_gpu_kernel::render_pixel), shader feature
 //! `trace`), which rust-gpu links but which is still far too large for a
 //! driver that inlines every call; on a module without it
-//! [`GpuTracer::render`] answers [`GpuError::MethodUnavailable`]. On
-//! lavapipe, llvmpipe ends the loops of a SIMD group after 65,535
-//! iterations in all, so the busiest rays come back as
-//! [`Status::MaxSteps`]
+//! [`GpuTracer::render`] answers [`GpuError::MethodUnavailable`]
 //! (BENCHMARKS.md "GPU").
 //!
 //! Limits: `f32` only; the per-pixel root buffer of transparent mode holds
@@ -49,11 +52,16 @@
 //! [`GpuScene::from_scene`].
 //!
 //! # Soundness on a GPU
-//! The interval code rounds outward by one float step after each operation,
-//! assuming correctly rounded `+ − × ÷` and preserved subnormals. Vulkan
-//! only requires `÷` to 2.5 ULP and allows subnormals to be flushed; lavapipe
-//! (LLVM on the CPU) rounds correctly, which the difftests check. On other
-//! drivers the bounds may be off by a few ULP.
+//! The interval code rounds outward from correctly rounded `+ − ×` (Vulkan
+//! requires them) with the same exact-sum test as on the CPU; the host
+//! decorates every float sum, difference, product and quotient of the
+//! module `NoContraction` before the driver sees it, so that no driver
+//! fuses or reassociates them. Quotients of `f32`s are computed in `f64`
+//! and rounded once, which gives the correctly rounded quotient under
+//! Vulkan's 2.5-ulp division; square roots are `libm`'s integer-only,
+//! correctly rounded ones. The GPU thus computes the CPU's bounds, bit for
+//! bit ([`arith_probe`] and the difftests check it on the driver in use).
+//! Subnormals are assumed preserved (Vulkan allows flushing them).
 
 use boundtrace_fields::PointBlob;
 use boundtrace_gpu_kernel::{Constants, HitOut, PHASE_DONE, PixelLeg, PixelOut, WORKGROUP};
@@ -66,7 +74,6 @@ use boundtrace_tracer::{Method, Mode, RayStats, Side, Status, Trace};
 use std::fmt;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
-use std::sync::atomic::{AtomicU32, Ordering};
 
 /// The command that builds the SPIR-V module (run from the repository root).
 pub const BUILD_COMMAND: &str = "scripts/build-spirv.sh";
@@ -298,8 +305,6 @@ pub struct GpuTracer {
     /// driver may take long or fail to compile it (lavapipe runs out of
     /// memory), so only renders that need it pay.
     general: OnceLock<Result<wgpu::ComputePipeline, String>>,
-    /// The dispatches of the last render ([`GpuTracer::last_dispatches`]).
-    dispatches: AtomicU32,
 }
 
 impl fmt::Debug for GpuTracer {
@@ -396,7 +401,6 @@ impl GpuTracer {
             layout,
             sphere,
             general: OnceLock::new(),
-            dispatches: AtomicU32::new(0),
         })
     }
 
@@ -433,14 +437,6 @@ impl GpuTracer {
         general.as_ref().map_err(|e| unavailable(e.clone()))
     }
 
-    /// How many dispatches the last [`render`](Self::render) took: one for
-    /// the `trace_pixels` methods; for sphere tracing, one per leg (one on
-    /// a driver without a loop limit; on lavapipe, as many as the busiest
-    /// 8 pixels need, see [`render`](Self::render)).
-    pub fn last_dispatches(&self) -> u32 {
-        self.dispatches.load(Ordering::Relaxed)
-    }
-
     /// The adapter in use (name, backend, device type: lavapipe reports
     /// `DeviceType::Cpu`).
     pub fn adapter_info(&self) -> &wgpu::AdapterInfo {
@@ -464,14 +460,18 @@ impl GpuTracer {
         settings: &RenderSettings<f32>,
     ) -> Result<Frame<f32>, GpuError> {
         self.render_in_legs(scene, camera, settings, 0)
+            .map(|(frame, _)| frame)
     }
 
     /// [`render`](Self::render), sphere tracing at most `leg_steps` steps
-    /// per pixel and dispatch (`0`: no limit). The frame is the same; only
-    /// the number of dispatches grows ([`last_dispatches`](Self::last_dispatches)).
-    /// Short dispatches keep a GPU watchdog quiet on heavy frames, and show
-    /// that resumed traces give the uninterrupted result (the difftests).
-    /// Other methods ignore `leg_steps`.
+    /// per pixel and dispatch (`0`: no limit), with the number of
+    /// dispatches the frame took: one for the `trace_pixels` methods; for
+    /// sphere tracing one per leg (one on a driver without a loop limit
+    /// when `leg_steps` is `0`; on lavapipe as many as its loop limit
+    /// needs). The frame is the same whatever the legs. Short dispatches
+    /// keep a GPU watchdog quiet on heavy frames, and show that resumed
+    /// traces give the uninterrupted result (the difftests). Other methods
+    /// ignore `leg_steps`.
     ///
     /// # Errors
     /// As [`render`](Self::render).
@@ -481,7 +481,7 @@ impl GpuTracer {
         camera: &Camera<f32>,
         settings: &RenderSettings<f32>,
         leg_steps: u32,
-    ) -> Result<Frame<f32>, GpuError> {
+    ) -> Result<(Frame<f32>, u32), GpuError> {
         settings.validate()?;
         let b = scene.bounds;
         if !(0..3).all(|i| b[0][i].is_finite() && b[1][i].is_finite() && b[0][i] <= b[1][i]) {
@@ -507,7 +507,8 @@ impl GpuTracer {
             ..Constants::new(&setup, scene.kind, scene.iso, slots, scene.groups)
         };
         let n = settings.width as usize * settings.height as usize;
-        let (pix_words, hit_words) = self.run(pipeline, &c, scene, n, n * slots as usize)?;
+        let (pix_words, hit_words, dispatches) =
+            self.run(pipeline, &c, scene, n, n * slots as usize)?;
         let mut pixels = Vec::with_capacity(n);
         let mut hits = Vec::new();
         for i in 0..n {
@@ -531,11 +532,13 @@ impl GpuTracer {
                 },
             });
         }
-        Frame::from_parts(*camera, *settings, pixels, hits)
-            .ok_or_else(|| GpuError::Dispatch("inconsistent results read back".into()))
+        let frame = Frame::from_parts(*camera, *settings, pixels, hits)
+            .ok_or_else(|| GpuError::Dispatch("inconsistent results read back".into()))?;
+        Ok((frame, dispatches))
     }
 
-    /// Uploads, dispatches and reads back the pixel and hit words.
+    /// Uploads, dispatches (until every pixel is done) and reads back the
+    /// pixel and hit words; also the number of dispatches.
     fn run(
         &self,
         pipeline: &wgpu::ComputePipeline,
@@ -543,7 +546,7 @@ impl GpuTracer {
         scene: &GpuScene,
         pixels: usize,
         hits: usize,
-    ) -> Result<(Vec<u32>, Vec<u32>), GpuError> {
+    ) -> Result<(Vec<u32>, Vec<u32>, u32), GpuError> {
         use wgpu::util::DeviceExt;
         let dev = &self.device;
         let words_of = |w: &[u32]| -> Vec<u8> {
@@ -643,7 +646,6 @@ impl GpuTracer {
             }
             self.queue.submit([enc.finish()]);
             dispatches += 1;
-            self.dispatches.store(dispatches, Ordering::Relaxed);
             if let Some(e) = pollster::block_on(scope.pop()) {
                 return Err(GpuError::Dispatch(error_chain(&e)));
             }
@@ -672,7 +674,7 @@ impl GpuTracer {
         self.queue.submit([enc.finish()]);
         let pixels = read_back(dev, &backs[0])?;
         let hits = read_back(dev, &backs[1])?;
-        Ok((pixels, hits))
+        Ok((pixels, hits, dispatches))
     }
 }
 
@@ -828,19 +830,20 @@ fn shader_module(
 /// `NoContraction`.
 ///
 /// Without it a driver may fuse `a·b + c` into one fused multiply-add
-/// (Vulkan allows it; lavapipe's compiler does), which rounds once instead
-/// of twice: the GPU would then compute other values than the CPU, which
-/// Rust never contracts, and "same code, same result" fails on long rays
-/// (a step count off by one or two). rust-gpu 0.11 emits no such
+/// or reassociate sums (without the decoration Vulkan allows relaxations
+/// beyond a CPU compiler's fast-math), which would change the values the
+/// GPU computes and break `ia-core`'s exact-sum test (TwoSum): the GPU
+/// must evaluate the Rust expressions as written, as the CPU does, for
+/// the same bounds and the same steps. rust-gpu 0.11 emits no such
 /// decorations, so the host adds them: `OpDecorate %r NoContraction` for
-/// each result `%r` of `OpFMul`, `OpFAdd` and `OpFSub`, placed before the
+/// each result `%r` of `OpFMul`, `OpFAdd`, `OpFSub` and `OpFDiv`, placed before the
 /// module's first annotation. A module that is not valid SPIR-V is
 /// returned unchanged (the driver rejects it later with its own error).
 fn forbid_contraction(words: &[u32]) -> Vec<u32> {
     const OP_DECORATE: u32 = 71;
     const NO_CONTRACTION: u32 = 42;
-    // OpFAdd, OpFSub, OpFMul: `opcode | result type | result | a | b`.
-    const FLOAT_OPS: [u32; 3] = [129, 131, 133];
+    // OpFAdd, OpFSub, OpFMul, OpFDiv: `opcode | result type | result | a | b`.
+    const FLOAT_OPS: [u32; 4] = [129, 131, 133, 136];
     let mut results = Vec::new();
     let mut first_annotation = None;
     let mut i = 5;
@@ -895,12 +898,43 @@ fn load_module() -> Result<Vec<u8>, GpuError> {
 /// # Errors
 /// As [`GpuTracer::new`].
 pub fn interval_probe(xs: &[f32]) -> Result<(Vec<f32>, wgpu::AdapterInfo), GpuError> {
+    let (words, info) = probe("interval_square", xs, xs.len() as u32)?;
+    Ok((words.into_iter().map(f32::from_bits).collect(), info))
+}
+
+/// Runs the module's `arith_ops` entry point on `pairs`: `[a / b, a · b,
+/// a + b, a − b]` for each `[a, b]`, as the driver computes them, with the
+/// adapter used. The interval code's outward rounding assumes `× + −`
+/// correctly rounded (Vulkan requires it) and widens quotients on the GPU
+/// by Vulkan's allowed 2.5 ulp (`ia-core`'s `math`); this shows what a
+/// driver actually does.
+///
+/// # Errors
+/// As [`interval_probe`].
+pub fn arith_probe(pairs: &[[f32; 2]]) -> Result<(Vec<[f32; 4]>, wgpu::AdapterInfo), GpuError> {
+    let data: Vec<f32> = pairs.iter().flat_map(|&[a, b]| [a, b, 0.0, 0.0]).collect();
+    let (words, info) = probe("arith_ops", &data, pairs.len() as u32)?;
+    let out = words
+        .chunks_exact(4)
+        .map(|w| [0, 1, 2, 3].map(|k| f32::from_bits(w[k])))
+        .collect();
+    Ok((out, info))
+}
+
+/// Runs a probe entry point (64 threads per workgroup, one storage buffer
+/// at binding 0) over `data` with `invocations` threads; the buffer's words
+/// afterwards.
+fn probe(
+    entry: &str,
+    xs: &[f32],
+    invocations: u32,
+) -> Result<(Vec<u32>, wgpu::AdapterInfo), GpuError> {
     let bytes = load_module()?;
     pollster::block_on(async {
         use wgpu::util::DeviceExt;
         let (info, device, queue) = open_device().await?;
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let module = shader_module(&device, &bytes, "interval_square", (64, 1, 1));
+        let module = shader_module(&device, &bytes, entry, (64, 1, 1));
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: None,
             entries: &[wgpu::BindGroupLayoutEntry {
@@ -920,10 +954,10 @@ pub fn interval_probe(xs: &[f32]) -> Result<(Vec<f32>, wgpu::AdapterInfo), GpuEr
             immediate_size: 0,
         });
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("interval_square"),
+            label: Some(entry),
             layout: Some(&pipeline_layout),
             module: &module,
-            entry_point: Some("interval_square"),
+            entry_point: Some(entry),
             compilation_options: Default::default(),
             cache: None,
         });
@@ -957,20 +991,16 @@ pub fn interval_probe(xs: &[f32]) -> Result<(Vec<f32>, wgpu::AdapterInfo), GpuEr
             let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
             pass.set_pipeline(&pipeline);
             pass.set_bind_group(0, &bind, &[]);
-            pass.dispatch_workgroups((xs.len() as u32).div_ceil(64).max(1), 1, 1);
+            pass.dispatch_workgroups(invocations.div_ceil(64).max(1), 1, 1);
         }
         enc.copy_buffer_to_buffer(&data, 0, &back, 0, size);
         queue.submit([enc.finish()]);
         if let Some(e) = scope.pop().await {
             return Err(GpuError::Shader(error_chain(&e)));
         }
-        let words = read_back(&device, &back)?;
-        let out = words
-            .iter()
-            .take(xs.len())
-            .map(|w| f32::from_bits(*w))
-            .collect();
-        Ok((out, info))
+        let mut words = read_back(&device, &back)?;
+        words.truncate(xs.len());
+        Ok((words, info))
     })
 }
 

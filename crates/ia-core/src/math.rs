@@ -23,20 +23,10 @@ pub(crate) const TRANSCENDENTAL_ULPS: u32 = 2;
 #[cfg(target_arch = "spirv")]
 pub(crate) const TRANSCENDENTAL_ULPS: u32 = 8;
 
-/// Float steps a `sqrt` result is widened by (correctly rounded on CPUs).
-#[cfg(not(target_arch = "spirv"))]
+/// Float steps a `sqrt` result is widened by: it is correctly rounded on
+/// CPUs (IEEE 754) and on SPIR-V too, where `libm`'s generic `sqrtf`/`sqrt`
+/// runs (integer operations only: no driver `sqrt` is involved).
 pub(crate) const SQRT_ULPS: u32 = 1;
-/// Float steps a `sqrt` result is widened by (Vulkan allows `sqrt` as
-/// `1/inversesqrt`, a few ulp).
-#[cfg(target_arch = "spirv")]
-pub(crate) const SQRT_ULPS: u32 = 4;
-
-/// Float steps a quotient is widened by (correctly rounded on CPUs).
-#[cfg(not(target_arch = "spirv"))]
-pub(crate) const DIV_ULPS: u32 = 1;
-/// Float steps a quotient is widened by (Vulkan: 2.5 ulp).
-#[cfg(target_arch = "spirv")]
-pub(crate) const DIV_ULPS: u32 = 3;
 
 /// Transcendental functions of a float type, selected by feature once.
 ///
@@ -55,10 +45,24 @@ pub trait Math: Copy {
     fn m_pow(self, p: Self) -> Self;
     /// Square root, correctly rounded.
     fn m_sqrt(self) -> Self;
+    /// Float steps a quotient [`m_div`](Self::m_div) is widened by.
+    const DIV_STEPS: u32;
+    /// `self / d`, correctly rounded where [`DIV_STEPS`](Self::DIV_STEPS)
+    /// is `1`.
+    ///
+    /// On CPUs the division itself (IEEE 754). On SPIR-V, Vulkan only
+    /// requires `÷` to 2.5 ulp: an `f32` quotient is computed in `f64` and
+    /// rounded once to `f32`, which gives the correctly rounded `f32`
+    /// quotient (a quotient of two 24-bit floats lies at least `2⁻⁴⁹`
+    /// relatively from the midpoint of two `f32`s, far more than the
+    /// `f64` division's 2.5 ulp of `2⁻⁵³`; the `f64` → `f32` conversion is
+    /// correctly rounded), so the GPU's quotients equal the CPU's; an `f64`
+    /// quotient keeps the device's division, widened by 3 steps.
+    fn m_div(self, d: Self) -> Self;
 }
 
 macro_rules! impl_math {
-    ($t:ty, $exp:ident, $ln:ident, $sin:ident, $cos:ident, $pow:ident, $sqrt:ident) => {
+    ($t:ty, $exp:ident, $ln:ident, $sin:ident, $cos:ident, $pow:ident, $sqrt:ident, $div:ident, $steps:ident) => {
         #[cfg(feature = "libm")]
         impl Math for $t {
             #[cfg_attr(not(target_arch = "spirv"), inline)]
@@ -84,6 +88,11 @@ macro_rules! impl_math {
             #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn m_sqrt(self) -> Self {
                 libm::$sqrt(self)
+            }
+            const DIV_STEPS: u32 = $steps;
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
+            fn m_div(self, d: Self) -> Self {
+                $div(self, d)
             }
         }
 
@@ -113,9 +122,53 @@ macro_rules! impl_math {
             fn m_sqrt(self) -> Self {
                 <$t>::sqrt(self)
             }
+            const DIV_STEPS: u32 = $steps;
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
+            fn m_div(self, d: Self) -> Self {
+                $div(self, d)
+            }
         }
     };
 }
 
-impl_math!(f32, expf, logf, sinf, cosf, powf, sqrtf);
-impl_math!(f64, exp, log, sin, cos, pow, sqrt);
+impl_math!(
+    f32,
+    expf,
+    logf,
+    sinf,
+    cosf,
+    powf,
+    sqrtf,
+    f32_div,
+    F32_DIV_STEPS
+);
+impl_math!(f64, exp, log, sin, cos, pow, sqrt, f64_div, F64_DIV_STEPS);
+
+/// [`Math::DIV_STEPS`] of `f32`: correctly rounded everywhere.
+const F32_DIV_STEPS: u32 = 1;
+
+/// [`Math::DIV_STEPS`] of `f64`: correctly rounded on CPUs.
+#[cfg(not(target_arch = "spirv"))]
+const F64_DIV_STEPS: u32 = 1;
+/// [`Math::DIV_STEPS`] of `f64`: Vulkan's 2.5 ulp on SPIR-V.
+#[cfg(target_arch = "spirv")]
+const F64_DIV_STEPS: u32 = 3;
+
+/// [`Math::m_div`] of `f32`.
+#[cfg_attr(not(target_arch = "spirv"), inline)]
+fn f32_div(n: f32, d: f32) -> f32 {
+    #[cfg(not(target_arch = "spirv"))]
+    {
+        n / d
+    }
+    #[cfg(target_arch = "spirv")]
+    {
+        ((n as f64) / (d as f64)) as f32
+    }
+}
+
+/// [`Math::m_div`] of `f64`.
+#[cfg_attr(not(target_arch = "spirv"), inline)]
+fn f64_div(n: f64, d: f64) -> f64 {
+    n / d
+}

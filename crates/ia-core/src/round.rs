@@ -13,23 +13,23 @@
 //! SPIR-V and WASM.
 
 use crate::Real;
-use crate::math::{DIV_ULPS, SQRT_ULPS};
+use crate::math::SQRT_ULPS;
 
 /// The sign of the rounding error of `s = fl(a + b)`: `exact − s` as a float
 /// (Knuth's TwoSum, exact for finite `a`, `b`, `s` in round-to-nearest).
 ///
-/// Not used on SPIR-V, where a driver might reassociate the expression; there
-/// sums are always stepped.
-#[cfg(not(target_arch = "spirv"))]
+/// Also on SPIR-V: a driver may reassociate or fuse float operations unless
+/// they are decorated `NoContraction`, which the host (`boundtrace-gpu`)
+/// adds to every float sum, difference and product of the module before
+/// the driver sees it, so the expression is evaluated as written there too.
 #[cfg_attr(not(target_arch = "spirv"), inline)]
 pub(crate) fn sum_residual<T: Real>(a: T, b: T, s: T) -> T {
     let bb = s - a;
     (a - (s - bb)) + (b - bb)
 }
 
-/// A lower bound of `a + b`: the directed-rounding result on CPUs (TwoSum
-/// tells whether round-to-nearest rounded up), one step below the
-/// round-to-nearest sum on SPIR-V.
+/// A lower bound of `a + b`: the directed-rounding result (TwoSum tells
+/// whether round-to-nearest rounded up), the same on CPUs and on SPIR-V.
 #[cfg_attr(not(target_arch = "spirv"), inline)]
 pub fn add_down<T: Real>(a: T, b: T) -> T {
     if a == T::ZERO {
@@ -47,16 +47,9 @@ pub fn add_down<T: Real>(a: T, b: T) -> T {
             s
         };
     }
-    #[cfg(not(target_arch = "spirv"))]
-    {
-        // A NaN residual (s − a overflowed on a tie near MAX) means inexact.
-        let r = sum_residual(a, b, s);
-        if r >= T::ZERO { s } else { s.next_down() }
-    }
-    #[cfg(target_arch = "spirv")]
-    {
-        s.next_down()
-    }
+    // A NaN residual (s − a overflowed on a tie near MAX) means inexact.
+    let r = sum_residual(a, b, s);
+    if r >= T::ZERO { s } else { s.next_down() }
 }
 
 /// An upper bound of `a + b` (see [`add_down`]).
@@ -113,21 +106,21 @@ pub fn mul_up<T: Real>(a: T, b: T) -> T {
 /// A lower bound of `a / b` for `b ≠ 0` (`0 / x` and `x / ±∞` are exact zeros).
 #[cfg_attr(not(target_arch = "spirv"), inline)]
 pub fn div_down<T: Real>(a: T, b: T) -> T {
-    let q = a / b;
+    let q = a.m_div(b);
     if q == T::ZERO && (a == T::ZERO || b.is_infinite()) {
         return T::ZERO;
     }
-    q.next_down_n(DIV_ULPS)
+    q.next_down_n(T::DIV_STEPS)
 }
 
 /// An upper bound of `a / b` for `b ≠ 0` (`0 / x` and `x / ±∞` are exact zeros).
 #[cfg_attr(not(target_arch = "spirv"), inline)]
 pub fn div_up<T: Real>(a: T, b: T) -> T {
-    let q = a / b;
+    let q = a.m_div(b);
     if q == T::ZERO && (a == T::ZERO || b.is_infinite()) {
         return T::ZERO;
     }
-    q.next_up_n(DIV_ULPS)
+    q.next_up_n(T::DIV_STEPS)
 }
 
 /// A lower bound of `√a` for `a ≥ 0`, never negative.

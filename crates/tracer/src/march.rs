@@ -795,15 +795,25 @@ pub(crate) fn sphere_run<T: Real, F: Field<T>, G: StepGuard>(
             None
         },
     };
-    loop {
+    // A `while` on a flag, not `loop` with returns: a driver that ends loops
+    // early (llvmpipe's loop limit, see `StepGuard`) leaves this loop after
+    // a verified step with `running` still set, and the trace pauses there
+    // instead of running into code that Rust deems unreachable.
+    let mut out = w.go(s.t);
+    let mut running = true;
+    while running {
         if !(s.t < t1) {
-            return w.stop(Status::Finished, t1);
+            out = w.stop(Status::Finished, t1);
+            running = false;
+            continue;
         }
         if w.stats.steps >= params.max_steps {
-            return w.stop(Status::MaxSteps, s.t);
+            out = w.stop(Status::MaxSteps, s.t);
+            running = false;
+            continue;
         }
         if !guard.before_step(w.stats.steps) {
-            return s.pause(&w, st);
+            break;
         }
         // What the step may change, to undo it: the loop variables, the
         // counters and the last root (a crossing may replace a touch).
@@ -822,12 +832,17 @@ pub(crate) fn sphere_run<T: Real, F: Field<T>, G: StepGuard>(
                 w.roots.set(n as usize - 1, last);
             }
             (s, w.n, w.stats) = (before, n, stats);
-            return s.pause(&w, st);
+            break;
         }
         if next.stop {
-            return next;
+            out = next;
+            running = false;
         }
     }
+    if running {
+        return s.pause(&w, st);
+    }
+    out
 }
 
 /// The loop variables of [`sphere_run`].
