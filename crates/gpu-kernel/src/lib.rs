@@ -864,28 +864,41 @@ mod tests {
         assert_eq!(out.status, Status::Unsupported as u32);
     }
 
-    #[test]
-    fn sphere_kernel_matches_the_general_one() {
+    /// Two overlapping blobs and their box.
+    fn two_blobs() -> ([PointBlob<f32>; 2], [[f32; 3]; 2]) {
         let k = boundtrace_fields::Kernel::compact(6, 0.9f32).unwrap();
         let blobs = [
             PointBlob::new([0.0, 0.0, 0.0], 1.0, k).unwrap(),
             PointBlob::new([0.3, 0.1, 0.0], 1.0, k).unwrap(),
         ];
-        let bounds = [[-0.8f32; 3], [0.8; 3]];
-        for (method, mode) in [
-            (Method::Sphere, Mode::Opaque),
-            (Method::Sphere, Mode::Transparent),
-            (Method::Segment, Mode::Opaque),
-        ] {
-            let setup = PixelSetup {
-                camera: Camera::framing(bounds, [0.2, -0.3, -1.0], 40.0, 1.0).unwrap(),
-                bounds,
-                width: 6,
-                height: 6,
-                method,
-                mode,
-                params: Params::new(),
-            };
+        (blobs, [[-0.8f32; 3], [0.8; 3]])
+    }
+
+    /// The methods and modes the sphere-kernel tests run (segment: refused).
+    const CASES: [(Method, Mode); 3] = [
+        (Method::Sphere, Mode::Opaque),
+        (Method::Sphere, Mode::Transparent),
+        (Method::Segment, Mode::Opaque),
+    ];
+
+    /// A 6 × 6 frame of `bounds` for `method` and `mode`.
+    fn six_by_six(bounds: [[f32; 3]; 2], method: Method, mode: Mode) -> PixelSetup<f32> {
+        PixelSetup {
+            camera: Camera::framing(bounds, [0.2, -0.3, -1.0], 40.0, 1.0).unwrap(),
+            bounds,
+            width: 6,
+            height: 6,
+            method,
+            mode,
+            params: Params::new(),
+        }
+    }
+
+    #[test]
+    fn sphere_kernel_matches_the_general_one() {
+        let (blobs, bounds) = two_blobs();
+        for (method, mode) in CASES {
+            let setup = six_by_six(bounds, method, mode);
             let c = Constants::new(&setup, SceneKind::Blobs, 0.5, 4, 0);
             let mut hit_pixels = 0;
             for y in 0..6 {
@@ -918,7 +931,7 @@ mod tests {
     #[test]
     fn sphere_legs_match_one_pass() {
         use boundtrace_tracer::march::StepGuard;
-        /// Allows `0` steps per leg.
+        /// Allows `n − 1` steps per leg (`Steps(n)`).
         struct Steps(u32);
         impl StepGuard for Steps {
             fn before_step(&mut self, _steps: u32) -> bool {
@@ -929,27 +942,10 @@ mod tests {
                 true
             }
         }
-        let k = boundtrace_fields::Kernel::compact(6, 0.9f32).unwrap();
-        let blobs = [
-            PointBlob::new([0.0, 0.0, 0.0], 1.0, k).unwrap(),
-            PointBlob::new([0.3, 0.1, 0.0], 1.0, k).unwrap(),
-        ];
-        let bounds = [[-0.8f32; 3], [0.8; 3]];
+        let (blobs, bounds) = two_blobs();
         let mut resumed = 0;
-        for (method, mode) in [
-            (Method::Sphere, Mode::Opaque),
-            (Method::Sphere, Mode::Transparent),
-            (Method::Segment, Mode::Opaque),
-        ] {
-            let setup = PixelSetup {
-                camera: Camera::framing(bounds, [0.2, -0.3, -1.0], 40.0, 1.0).unwrap(),
-                bounds,
-                width: 6,
-                height: 6,
-                method,
-                mode,
-                params: Params::new(),
-            };
+        for (method, mode) in CASES {
+            let setup = six_by_six(bounds, method, mode);
             let c = Constants::new(&setup, SceneKind::Blobs, 0.5, 4, 0);
             assert_eq!(c.guard_loops, GUARD_LOOPS);
             let field = Blobs::new_unchecked(0.5, &blobs[..]);

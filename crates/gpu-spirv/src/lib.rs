@@ -67,6 +67,7 @@ use boundtrace_fields::PointBlob;
 use boundtrace_gpu_kernel::{Constants, HitOut, PHASE_DONE, PixelLeg, PixelOut, WORKGROUP};
 pub use boundtrace_gpu_kernel::{MAX_GPU_ROOTS, SceneKind};
 use boundtrace_tracer::camera::Camera;
+use boundtrace_tracer::march::SphereState;
 use boundtrace_tracer::pixel::PixelSetup;
 use boundtrace_tracer::render::{Frame, Hit, Pixel, RenderError, RenderSettings};
 use boundtrace_tracer::scenes::{Scene, SceneField};
@@ -684,11 +685,16 @@ impl GpuTracer {
 fn leg_progress(words: &[u32]) -> (usize, u64) {
     let mut pending = 0;
     let mut total = 0u64;
+    use core::mem::offset_of;
+    let phase_at = offset_of!(PixelLeg, phase) / 4;
+    let steps_at = (offset_of!(PixelLeg, sphere)
+        + offset_of!(SphereState<f32>, stats)
+        + offset_of!(RayStats, steps))
+        / 4;
     for leg in words.chunks_exact(LEG_WORDS) {
-        // Word 10 is the phase, word 7 the steps (`SphereState::stats`).
-        let phase = leg[LEG_WORDS - 1];
+        let phase = leg[phase_at];
         pending += usize::from(phase < PHASE_DONE);
-        total += (u64::from(phase) << 32) + u64::from(leg[7]);
+        total += (u64::from(phase) << 32) + u64::from(leg[steps_at]);
     }
     (pending, total)
 }
@@ -1155,6 +1161,34 @@ mod tests {
         assert!(entry_points(&[]).is_empty());
         // A truncated instruction ends the scan without panicking.
         assert_eq!(entry_points(&bytes[..bytes.len() - 40]).len(), 1);
+    }
+
+    #[test]
+    fn leg_progress_reads_phase_and_steps() {
+        let leg = |phase, steps| {
+            let mut l = PixelLeg {
+                phase,
+                ..PixelLeg::default()
+            };
+            l.sphere.stats.steps = steps;
+            l.sphere.t = 1.5;
+            let w: [u32; LEG_WORDS] = [
+                l.sphere.t.to_bits(),
+                l.sphere.omega.to_bits(),
+                0,
+                0,
+                l.sphere.has_known,
+                l.sphere.prev as u32,
+                l.sphere.roots,
+                l.sphere.stats.steps,
+                l.sphere.stats.field_evals,
+                l.sphere.stats.bound_evals,
+                l.phase,
+            ];
+            w
+        };
+        let words: Vec<u32> = [leg(PHASE_DONE, 9), leg(1, 4), leg(0, 0)].concat();
+        assert_eq!(leg_progress(&words), (2, (3 << 32) + 9 + (1 << 32) + 4));
     }
 
     #[test]

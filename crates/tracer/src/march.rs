@@ -674,8 +674,7 @@ pub(crate) fn sphere<T: Real, F: Field<T>>(
     roots: RootSlots<'_, T>,
 ) -> Trace<T> {
     let mut state = SphereState::start(span, params);
-    // `Unguarded` never pauses: the run always ends with a final record.
-    sphere_run(
+    let next = sphere_run(
         field,
         ray,
         span,
@@ -684,8 +683,23 @@ pub(crate) fn sphere<T: Real, F: Field<T>>(
         roots,
         &mut state,
         &mut Unguarded,
-    )
-    .trace
+    );
+    final_record(next)
+}
+
+/// The record of a run that is not resumed: `Unguarded` never pauses, but
+/// a driver that ends loops early can make [`sphere_run`] pause (see
+/// there); such a ray is reported unfinished ([`Status::MaxSteps`] at the
+/// point reached), never `Finished`.
+fn final_record<T>(next: Next<T>) -> Trace<T> {
+    if next.stop {
+        next.trace
+    } else {
+        Trace {
+            status: Status::MaxSteps,
+            ..next.trace
+        }
+    }
 }
 
 /// Everything a sphere trace carries from one step to the next, so that it
@@ -1069,6 +1083,48 @@ mod tests {
             *self.calls += 1;
             *self.calls % self.undo != 0
         }
+    }
+
+    #[test]
+    fn a_paused_run_is_reported_unfinished() {
+        let ray = Ray::new([-3.0, 0.1, 0.0], [1.0, 0.0, 0.0]);
+        let p = Params::new();
+        let span = [0.0, 6.0];
+        let mut buf = [NONE; 2];
+        let mut st = SphereState::start(span, &p);
+        let slots = RootSlots {
+            buf: &mut buf,
+            base: 0,
+            len: 2,
+        };
+        let mut calls = 0;
+        let mut guard = Faulty {
+            left: 1,
+            undo: 1000,
+            calls: &mut calls,
+        };
+        let next = sphere_run(
+            &Ball(1.0),
+            &ray,
+            span,
+            Mode::Opaque,
+            &p,
+            slots,
+            &mut st,
+            &mut guard,
+        );
+        assert!(!next.stop);
+        let tr = final_record(next);
+        assert_eq!(
+            (tr.status, tr.roots, tr.stats.steps),
+            (Status::MaxSteps, 0, 1)
+        );
+        // One safe step of |f| ≈ 2 from t = 0, before the ball at t ≈ 2.005.
+        assert!(
+            tr.t_reached > 1.9 && tr.t_reached < 2.005,
+            "{}",
+            tr.t_reached
+        );
     }
 
     #[test]
