@@ -5,11 +5,16 @@
 # rust-src, rustc-dev, llvm-tools) with rustup when missing, builds the
 # builder (crates/gpu-builder; its target dir is cached under
 # $CARGO_TARGET_DIR/spirv-builder, the first build takes ~8 min on 2 cores)
-# and writes the module to the path the host crate loads:
+# and writes the modules to the paths the host crate loads:
 #
-#     ${CARGO_TARGET_DIR:-target}/spirv/boundtrace-gpu-shader.spv
+#     ${CARGO_TARGET_DIR:-target}/spirv/boundtrace-gpu-shader.spv                 (sphere tracing, probes)
+#     ${CARGO_TARGET_DIR:-target}/spirv/boundtrace-gpu-shader-segment-blobs.spv   (segment tracing, `Blobs` scenes)
+#     ${CARGO_TARGET_DIR:-target}/spirv/boundtrace-gpu-shader-segment-groups.spv  (segment tracing, `BlobGroups` scenes)
 #
-# (boundtrace-gpu also honours BOUNDTRACE_GPU_SPV=/path/to/module.spv).
+# (boundtrace-gpu also honours BOUNDTRACE_GPU_SPV=/path/to/module.spv, and
+# looks for the segment modules beside it). With BOUNDTRACE_SHADER_FEATURES
+# set (e.g. `sphere,trace`), only the first module is built, with those
+# features.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
@@ -32,3 +37,16 @@ echo "==> building the SPIR-V builder (cached in $target/spirv-builder) and comp
 (cd crates/gpu-builder &&
     CARGO_TARGET_DIR="$target/spirv-builder" cargo +"$toolchain" run --release --locked -q -- \
         "$out" "$target/spirv-shader")
+
+# The segment-tracing modules, one per blob scene kind: spirv-opt runs out
+# of memory on segment tracing of both kinds in one module. Skipped when
+# BOUNDTRACE_SHADER_FEATURES picks the main module's features.
+if [ -z "${BOUNDTRACE_SHADER_FEATURES:-}" ]; then
+    for kind in blobs groups; do
+        echo "==> compiling the segment-tracing module for $kind"
+        (cd crates/gpu-builder &&
+            BOUNDTRACE_SHADER_FEATURES=segment-$kind CARGO_TARGET_DIR="$target/spirv-builder" \
+                cargo +"$toolchain" run --release --locked -q -- \
+                "${out%.spv}-segment-$kind.spv" "$target/spirv-shader-segment-$kind")
+    done
+fi

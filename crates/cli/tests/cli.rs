@@ -449,12 +449,12 @@ fn gpu_backend_renders_sphere_tracing() {
         "--backend",
         "gpu",
         "--method",
-        "segment",
+        "quadratic-mixed",
         "--size",
         "8x8",
     ]);
     let err = stderr(&o);
-    assert_fails(&o, 1, &["GPU backend:", "segment"]);
+    assert_fails(&o, 1, &["GPU backend:", "quadratic-mixed"]);
     assert!(!Path::new(&no).exists(), "{err}");
 }
 

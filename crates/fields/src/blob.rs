@@ -459,9 +459,16 @@ impl<T: Real, S: AsRef<[PointBlob<T>]>> Blobs<T, S> {
     }
 
     /// Enclosures of `f(t₀)`, `f'(t₀)`, and `f'` on `[t₀, t₁]` (when not
-    /// `second`; else `0`) or `f''` on `[t₀, t₁]` (when `second`; else `0`);
-    /// `None` for an invalid interval.
-    fn taylor_parts(&self, ray: &Ray<T>, t0: T, t1: T, second: bool) -> Option<[Interval<T>; 4]> {
+    /// `SECOND`; else `0`) or `f''` on `[t₀, t₁]` (when `SECOND`; else `0`);
+    /// `None` for an invalid interval. `SECOND` is a constant so that the
+    /// linear bound's code holds no curvature code (a GPU driver inlines
+    /// every call: BENCHMARKS.md "GPU").
+    fn taylor_parts<const SECOND: bool>(
+        &self,
+        ray: &Ray<T>,
+        t0: T,
+        t1: T,
+    ) -> Option<[Interval<T>; 4]> {
         if !t0.is_finite() || !t1.is_finite() || t1 < t0 {
             return None;
         }
@@ -484,7 +491,7 @@ impl<T: Real, S: AsRef<[PointBlob<T>]>> Blobs<T, S> {
             let u_range = Interval::new(r.u_min.lo(), r.u_max.hi());
             f0 = f0 + k.eval_u(r.u_t0) * w;
             df0 = df0 + k.d_u(r.u_t0) * r.du_t0 * w;
-            if second {
+            if SECOND {
                 let h = k.ray_curvature_range(r.u_min, r.u_max, r.e) * r.two_alpha;
                 d2f = d2f + h * Self::entry_scale(b, &r, t0, t1) * w;
             } else {
@@ -535,7 +542,7 @@ impl<T: Real, S: AsRef<[PointBlob<T>]>> Field<T> for Blobs<T, S> {
     /// `[t₀, t₁]` from the chain rule with intervals. `None` for an invalid
     /// interval or when `f'` is unbounded (inverse kernel near a center).
     fn taylor_linear(&self, ray: &Ray<T>, t0: T, t1: T) -> Option<ForwardLinear<T>> {
-        let [f0, _, df, _] = self.taylor_parts(ray, t0, t1, false)?;
+        let [f0, _, df, _] = self.taylor_parts::<false>(ray, t0, t1)?;
         if !usable([f0, df]) {
             return None;
         }
@@ -549,7 +556,7 @@ impl<T: Real, S: AsRef<[PointBlob<T>]>> Field<T> for Blobs<T, S> {
     /// when `f''` is unbounded there (compact kernel of degree 2 or 3
     /// crossing its support boundary, inverse kernel near a center).
     fn taylor_quadratic(&self, ray: &Ray<T>, t0: T, t1: T) -> Option<ForwardQuadratic<T>> {
-        let [f0, df0, _, d2f] = self.taylor_parts(ray, t0, t1, true)?;
+        let [f0, df0, _, d2f] = self.taylor_parts::<true>(ray, t0, t1)?;
         if !usable([f0, df0, d2f]) {
             return None;
         }
@@ -682,7 +689,7 @@ mod tests {
     fn taylor_start_derivative_matches_jet() {
         let f = scene();
         let ray = Ray::new([-2.0, 0.1, 0.05], [0.8, 0.1, -0.05]);
-        let [_, df0, _, _] = f.taylor_parts(&ray, 1.7, 1.8, false).unwrap();
+        let [_, df0, _, _] = f.taylor_parts::<false>(&ray, 1.7, 1.8).unwrap();
         let j = jet_at(&f, &ray, 1.7);
         assert!(df0.contains(j.d1) && df0.width() < 1e-12);
     }

@@ -1,7 +1,8 @@
 //! Builds `crates/gpu-shader` to SPIR-V with rust-gpu and copies the module
 //! to the path given as the first argument; the optional second argument
 //! is the (absolute) target directory of the shader build;
-//! `BOUNDTRACE_SHADER_FEATURES` (comma-separated) enables shader features.
+//! `BOUNDTRACE_SHADER_FEATURES` (comma-separated) gives the shader crate's
+//! features instead of its default ones.
 //!
 //! Run through `scripts/build-spirv.sh`, which installs the pinned nightly
 //! and picks the output path the host crate (`boundtrace-gpu`) loads.
@@ -29,7 +30,8 @@ fn main() -> ExitCode {
         .capability(Capability::Int8)
         .capability(Capability::Int64)
         .capability(Capability::Float64);
-    // Extra shader-crate features, comma-separated (e.g. `trace`).
+    // The shader crate's features, comma-separated, instead of its default
+    // ones (e.g. `segment`, or `sphere,trace`).
     if let Ok(features) = std::env::var("BOUNDTRACE_SHADER_FEATURES") {
         let list: Vec<String> = features
             .split(',')
@@ -41,7 +43,9 @@ fn main() -> ExitCode {
             // ids after rust-gpu's inlining); the driver optimises anyway.
             builder = builder.extra_arg("--no-spirv-opt");
         }
-        builder = builder.shader_crate_features(list);
+        builder = builder
+            .shader_crate_default_features(false)
+            .shader_crate_features(list);
     }
     if let Some(dir) = target_dir {
         builder = builder.target_dir_path(PathBuf::from(dir));

@@ -96,16 +96,20 @@ impl<'a, T: Real> FlatBlobGroups<'a, T> {
 
 impl<T: Real> Field<T> for FlatBlobGroups<'_, T> {
     fn eval<N: FieldNum<T>>(&self, p: [N; 3]) -> N {
-        if self.groups == 0 {
-            return N::constant(T::nan());
-        }
-        let mut acc = self.group(0).eval(p);
-        let mut n = 1;
+        let mut acc: Option<N> = None;
+        let mut n = 0;
         while n < self.groups {
-            acc = acc.min(self.group(n).eval(p));
+            let g = self.group(n).eval(p);
+            acc = Some(match acc {
+                Some(a) => a.min(g),
+                None => g,
+            });
             n += 1;
         }
-        acc
+        match acc {
+            Some(a) => a,
+            None => N::constant(T::nan()),
+        }
     }
     fn lipschitz(&self) -> Option<T> {
         let mut l = T::ZERO;
@@ -116,29 +120,32 @@ impl<T: Real> Field<T> for FlatBlobGroups<'_, T> {
         }
         Some(l)
     }
+    // One call site per group bound (a GPU driver inlines every call).
     fn taylor_linear(&self, ray: &Ray<T>, t0: T, t1: T) -> Option<ForwardLinear<T>> {
-        if self.groups == 0 {
-            return None;
-        }
-        let mut acc = self.group(0).taylor_linear(ray, t0, t1)?;
-        let mut n = 1;
+        let mut acc: Option<ForwardLinear<T>> = None;
+        let mut n = 0;
         while n < self.groups {
-            acc = acc.min(self.group(n).taylor_linear(ray, t0, t1)?);
+            let g = self.group(n).taylor_linear(ray, t0, t1)?;
+            acc = Some(match acc {
+                Some(a) => a.min(g),
+                None => g,
+            });
             n += 1;
         }
-        Some(acc)
+        acc
     }
     fn taylor_quadratic(&self, ray: &Ray<T>, t0: T, t1: T) -> Option<ForwardQuadratic<T>> {
-        if self.groups == 0 {
-            return None;
-        }
-        let mut acc = self.group(0).taylor_quadratic(ray, t0, t1)?;
-        let mut n = 1;
+        let mut acc: Option<ForwardQuadratic<T>> = None;
+        let mut n = 0;
         while n < self.groups {
-            acc = acc.min(self.group(n).taylor_quadratic(ray, t0, t1)?);
+            let g = self.group(n).taylor_quadratic(ray, t0, t1)?;
+            acc = Some(match acc {
+                Some(a) => a.min(g),
+                None => g,
+            });
             n += 1;
         }
-        Some(acc)
+        acc
     }
 }
 

@@ -51,15 +51,15 @@ pub use groups::FlatBlobGroups;
 #[cfg(not(target_arch = "spirv"))]
 use boundtrace_fields::blobtree::BlobtreeRef;
 use boundtrace_fields::{Blobs, PointBlob};
-use boundtrace_inclusion::Field;
+use boundtrace_inclusion::{Field, Ray};
 #[cfg(test)]
 use boundtrace_tracer::Side;
 use boundtrace_tracer::camera::{Camera, Projection, ray_box_span};
-use boundtrace_tracer::march::{SphereState, StepGuard};
+use boundtrace_tracer::march::{MarchState, StepGuard};
 use boundtrace_tracer::pixel::{PixelSetup, PixelTrace, trace_pixel_in, trace_pixel_with};
 use boundtrace_tracer::{
-    Method, Mode, Params, RayStats, Root, Status, Trace, normal, trace_sphere_in,
-    trace_sphere_resume_in,
+    Leg, Method, Mode, Params, RayStats, Root, Status, Trace, normal, trace_segment_resume_in,
+    trace_sphere_in, trace_sphere_resume_in,
 };
 
 /// The largest per-pixel root buffer of the GPU (transparent mode): a
@@ -99,6 +99,45 @@ impl SceneKind {
             _ => None,
         }
     }
+}
+
+/// Which [`SceneKind`]s a kernel entry point compiles: a type, so that an
+/// entry point can hold one scene kind's field code alone (a driver that
+/// inlines every call needs tens of gigabytes for segment tracing over
+/// both blob kinds at once: BENCHMARKS.md "GPU"). Pixels of another kind
+/// are [`Status::Unsupported`].
+pub trait SceneKinds {
+    /// Whether [`SceneKind::Blobs`] scenes are traced.
+    const BLOBS: bool;
+    /// Whether [`SceneKind::BlobGroups`] scenes are traced.
+    const GROUPS: bool;
+}
+
+/// Every scene kind ([`SceneKinds`]).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct AllKinds;
+
+impl SceneKinds for AllKinds {
+    const BLOBS: bool = true;
+    const GROUPS: bool = true;
+}
+
+/// [`SceneKind::Blobs`] only ([`SceneKinds`]).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct BlobsOnly;
+
+impl SceneKinds for BlobsOnly {
+    const BLOBS: bool = true;
+    const GROUPS: bool = false;
+}
+
+/// [`SceneKind::BlobGroups`] only ([`SceneKinds`]).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct GroupsOnly;
+
+impl SceneKinds for GroupsOnly {
+    const BLOBS: bool = false;
+    const GROUPS: bool = true;
 }
 
 /// The frame's constants, as uploaded (plain `u32`/`f32` words, `#[repr(C)]`,
@@ -374,7 +413,7 @@ pub fn render_pixel(
     hits: &mut [HitOut],
     base: usize,
 ) -> PixelOut {
-    render_with(
+    render_with::<_, AllKinds>(
         &mut AnyMethod,
         c,
         words,
@@ -410,7 +449,7 @@ pub fn render_sphere_pixel(
     if c.method != Method::Sphere as u32 {
         return unsupported();
     }
-    render_with(
+    render_with::<_, AllKinds>(
         &mut SphereOnly,
         c,
         words,
@@ -489,15 +528,15 @@ impl PixelKernel for SphereOnly {
     }
 }
 
-/// A pixel's resumable sphere trace between two dispatches
-/// ([`render_sphere_leg`]): the tracer's loop state and the pixel's phase
-/// (`#[repr(C)]`, 11 words; the host zero-fills the buffer, i.e.
-/// [`PHASE_FRESH`]).
+/// A pixel's resumable trace between two dispatches
+/// ([`render_sphere_leg`], [`render_segment_leg`]): the tracer's loop state
+/// and the pixel's phase (`#[repr(C)]`, 12 words; the host zero-fills the
+/// buffer, i.e. [`PHASE_FRESH`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[repr(C)]
 pub struct PixelLeg {
     /// Where the trace resumes ([`PHASE_TRACING`]).
-    pub sphere: SphereState<f32>,
+    pub state: MarchState<f32>,
     /// [`PHASE_FRESH`], [`PHASE_TRACING`], [`PHASE_SHADING`] or
     /// [`PHASE_DONE`].
     pub phase: u32,
@@ -534,7 +573,7 @@ pub fn loops_complete(n: u32) -> bool {
     i == n
 }
 
-/// The tracer's step guard of [`render_sphere_leg`]: at most `until`
+/// The tracer's step guard of the leg kernels: at most `until`
 /// steps in all, and [`loops_complete`] after every step.
 struct LimitProbe {
     loops: u32,
@@ -550,12 +589,75 @@ impl StepGuard for LimitProbe {
     }
 }
 
-/// [`render_sphere_leg`]'s kernel: one leg of the pixel's trace, or its
-/// shading.
+/// Which resumable trace a leg kernel runs: a type, so that an entry
+/// point links one method's tracer.
+trait LegTrace: Copy {
+    /// The method traced.
+    const METHOD: Method;
+    /// One leg of the trace from `state` (the tracer's `trace_*_resume_in`).
+    #[allow(clippy::too_many_arguments)]
+    fn trace<F: Field<f32>>(
+        field: &F,
+        ray: &Ray<f32>,
+        span: [f32; 2],
+        mode: Mode,
+        params: &Params<f32>,
+        roots: &mut [Root<f32>],
+        window: [usize; 2],
+        state: &mut MarchState<f32>,
+        guard: &mut LimitProbe,
+    ) -> Leg<f32>;
+}
+
+/// Sphere tracing ([`trace_sphere_resume_in`]).
+#[derive(Clone, Copy)]
+struct SphereTrace;
+
+impl LegTrace for SphereTrace {
+    const METHOD: Method = Method::Sphere;
+    fn trace<F: Field<f32>>(
+        field: &F,
+        ray: &Ray<f32>,
+        span: [f32; 2],
+        mode: Mode,
+        params: &Params<f32>,
+        roots: &mut [Root<f32>],
+        window: [usize; 2],
+        state: &mut MarchState<f32>,
+        guard: &mut LimitProbe,
+    ) -> Leg<f32> {
+        trace_sphere_resume_in(field, ray, span, mode, params, roots, window, state, guard)
+    }
+}
+
+/// Segment tracing ([`trace_segment_resume_in`]).
+#[derive(Clone, Copy)]
+struct SegmentTrace;
+
+impl LegTrace for SegmentTrace {
+    const METHOD: Method = Method::Segment;
+    fn trace<F: Field<f32>>(
+        field: &F,
+        ray: &Ray<f32>,
+        span: [f32; 2],
+        mode: Mode,
+        params: &Params<f32>,
+        roots: &mut [Root<f32>],
+        window: [usize; 2],
+        state: &mut MarchState<f32>,
+        guard: &mut LimitProbe,
+    ) -> Leg<f32> {
+        trace_segment_resume_in(field, ray, span, mode, params, roots, window, state, guard)
+    }
+}
+
+/// The leg kernels' [`PixelKernel`]: one leg of the pixel's trace with
+/// `M`, or its shading.
 ///
 /// It holds its leg and record by value: rust-gpu cannot keep pointers in a
 /// struct ("not a logical pointer").
-struct SphereLegs {
+struct Legs<M> {
+    _method: M,
     leg: PixelLeg,
     out: PixelOut,
     loops: u32,
@@ -565,7 +667,7 @@ struct SphereLegs {
     ran: bool,
 }
 
-impl PixelKernel for SphereLegs {
+impl<M: LegTrace> PixelKernel for Legs<M> {
     fn run<F: Field<f32>>(
         &mut self,
         field: &F,
@@ -595,10 +697,10 @@ impl PixelKernel for SphereLegs {
                 },
                 Some(span) => {
                     if leg.phase == PHASE_FRESH {
-                        leg.sphere = SphereState::start(span, &setup.params);
+                        leg.state = MarchState::start(span, &setup.params);
                     }
                     // (No `saturating_add`: rust-gpu 0.11 lacks it.)
-                    let done = leg.sphere.stats.steps;
+                    let done = leg.state.stats.steps;
                     let until = if self.leg_steps == 0 || self.leg_steps > u32::MAX - done {
                         u32::MAX
                     } else {
@@ -608,7 +710,7 @@ impl PixelKernel for SphereLegs {
                         loops: self.loops,
                         until,
                     };
-                    let r = trace_sphere_resume_in(
+                    let r = M::trace(
                         field,
                         &ray,
                         span,
@@ -616,7 +718,7 @@ impl PixelKernel for SphereLegs {
                         &setup.params,
                         roots,
                         window,
-                        &mut leg.sphere,
+                        &mut leg.state,
                         &mut guard,
                     );
                     paused = r.paused;
@@ -638,7 +740,7 @@ impl PixelKernel for SphereLegs {
                 leg.phase = PHASE_TRACING;
                 let mut out = record(&px);
                 out.status = STATUS_PAUSED;
-                out.steps = leg.sphere.stats.steps;
+                out.steps = leg.state.stats.steps;
                 (self.leg, self.out) = (leg, out);
                 return out;
             }
@@ -697,22 +799,111 @@ pub fn render_sphere_leg(
     leg: &mut PixelLeg,
     out: &mut PixelOut,
 ) {
+    render_leg::<_, AllKinds>(
+        SphereTrace,
+        c,
+        words,
+        floats,
+        blobs,
+        x,
+        y,
+        roots,
+        hits,
+        base,
+        leg,
+        out,
+    );
+}
+
+/// [`render_sphere_leg`] for [`Method::Segment`] (other methods give
+/// [`Status::Unsupported`] pixels): segment tracing in legs
+/// ([`trace_segment_resume_in`]: `λ` from the field's Taylor lines), the
+/// same records as [`render_pixel`]'s, bit for bit, wherever the field has
+/// Taylor lines (the blob scenes' compact kernels).
+#[allow(clippy::too_many_arguments)]
+pub fn render_segment_leg(
+    c: &Constants,
+    words: &[u32],
+    floats: &[f32],
+    blobs: &[PointBlob<f32>],
+    x: u32,
+    y: u32,
+    roots: &mut [Root<f32>],
+    hits: &mut [HitOut],
+    base: usize,
+    leg: &mut PixelLeg,
+    out: &mut PixelOut,
+) {
+    render_segment_leg_in::<AllKinds>(c, words, floats, blobs, x, y, roots, hits, base, leg, out);
+}
+
+/// [`render_segment_leg`] for the scene kinds `K` only (other kinds give
+/// [`Status::Unsupported`] pixels): the shader's `trace_segment_blobs`
+/// ([`BlobsOnly`]) and `trace_segment_groups` ([`GroupsOnly`]) entry
+/// points, one per module.
+#[allow(clippy::too_many_arguments)]
+pub fn render_segment_leg_in<K: SceneKinds>(
+    c: &Constants,
+    words: &[u32],
+    floats: &[f32],
+    blobs: &[PointBlob<f32>],
+    x: u32,
+    y: u32,
+    roots: &mut [Root<f32>],
+    hits: &mut [HitOut],
+    base: usize,
+    leg: &mut PixelLeg,
+    out: &mut PixelOut,
+) {
+    render_leg::<_, K>(
+        SegmentTrace,
+        c,
+        words,
+        floats,
+        blobs,
+        x,
+        y,
+        roots,
+        hits,
+        base,
+        leg,
+        out,
+    );
+}
+
+/// The leg kernels with `M`'s tracer.
+#[allow(clippy::too_many_arguments)]
+fn render_leg<M: LegTrace, K: SceneKinds>(
+    method: M,
+    c: &Constants,
+    words: &[u32],
+    floats: &[f32],
+    blobs: &[PointBlob<f32>],
+    x: u32,
+    y: u32,
+    roots: &mut [Root<f32>],
+    hits: &mut [HitOut],
+    base: usize,
+    leg: &mut PixelLeg,
+    out: &mut PixelOut,
+) {
     if leg.phase >= PHASE_DONE {
         return;
     }
-    if c.method != Method::Sphere as u32 {
+    if c.method != M::METHOD as u32 {
         *out = unsupported();
         leg.phase = PHASE_DONE;
         return;
     }
-    let mut k = SphereLegs {
+    let mut k = Legs {
+        _method: method,
         leg: *leg,
         out: *out,
         loops: c.guard_loops,
         leg_steps: c.leg_steps,
         ran: false,
     };
-    let o = render_with(&mut k, c, words, floats, blobs, x, y, roots, hits, base);
+    let o = render_with::<_, K>(&mut k, c, words, floats, blobs, x, y, roots, hits, base);
     if !k.ran {
         k.out = o;
         k.leg.phase = PHASE_DONE;
@@ -731,7 +922,7 @@ fn window_len(max_roots: u32) -> usize {
 
 /// [`render_pixel`] with the kernel `p`.
 #[allow(clippy::too_many_arguments)]
-fn render_with<P: PixelKernel>(
+fn render_with<P: PixelKernel, K: SceneKinds>(
     p: &mut P,
     c: &Constants,
     words: &[u32],
@@ -755,12 +946,12 @@ fn render_with<P: PixelKernel>(
             Ok(tree) => p.run(&tree, &setup, c.max_roots, x, y, roots, hits, base),
             Err(_) => unsupported(),
         },
-        Some(SceneKind::Blobs) if c.iso.is_finite() => {
+        Some(SceneKind::Blobs) if K::BLOBS && c.iso.is_finite() => {
             let field = Blobs::new_unchecked(c.iso, blobs);
             p.run(&field, &setup, c.max_roots, x, y, roots, hits, base)
         }
         Some(SceneKind::Blobs) => unsupported(),
-        Some(SceneKind::BlobGroups) => {
+        Some(SceneKind::BlobGroups) if K::GROUPS => {
             let field = FlatBlobGroups::from_parts(c.iso, words, c.groups as usize, blobs);
             if field.is_valid() {
                 p.run(&field, &setup, c.max_roots, x, y, roots, hits, base)
@@ -768,6 +959,7 @@ fn render_with<P: PixelKernel>(
                 unsupported()
             }
         }
+        Some(SceneKind::BlobGroups) => unsupported(),
         #[cfg(target_arch = "spirv")]
         Some(SceneKind::Blobtree) => {
             let _ = floats;
@@ -849,7 +1041,7 @@ mod tests {
         assert_eq!(c.max_roots, MAX_GPU_ROOTS);
         let w = c.to_words();
         assert_eq!(core::mem::size_of::<Constants>(), 36 * 4);
-        assert_eq!(core::mem::size_of::<PixelLeg>(), 11 * 4);
+        assert_eq!(core::mem::size_of::<PixelLeg>(), 12 * 4);
         assert_eq!(w[34], GUARD_LOOPS);
         assert_eq!(w[28], Method::QuadraticMixed as u32);
         assert_eq!(f32::from_bits(w[32]), 0.5);
@@ -929,8 +1121,9 @@ mod tests {
     }
 
     #[test]
-    fn sphere_legs_match_one_pass() {
+    fn legs_match_one_pass() {
         use boundtrace_tracer::march::StepGuard;
+        use boundtrace_tracer::trace_resume_in;
         /// Allows `n − 1` steps per leg (`Steps(n)`).
         struct Steps(u32);
         impl StepGuard for Steps {
@@ -943,8 +1136,34 @@ mod tests {
             }
         }
         let (blobs, bounds) = two_blobs();
+        type LegFn = fn(
+            &Constants,
+            &[u32],
+            &[f32],
+            &[PointBlob<f32>],
+            u32,
+            u32,
+            &mut [Root<f32>],
+            &mut [HitOut],
+            usize,
+            &mut PixelLeg,
+            &mut PixelOut,
+        );
+        let kernels: [(Method, LegFn); 2] = [
+            (Method::Sphere, render_sphere_leg),
+            (Method::Segment, render_segment_leg),
+        ];
         let mut resumed = 0;
-        for (method, mode) in CASES {
+        let mut segment_hits = 0;
+        for ((method, mode), (kernel, render_leg)) in [
+            (Method::Sphere, Mode::Opaque),
+            (Method::Sphere, Mode::Transparent),
+            (Method::Segment, Mode::Opaque),
+            (Method::Segment, Mode::Transparent),
+        ]
+        .into_iter()
+        .flat_map(|case| kernels.map(|k| (case, k)))
+        {
             let setup = six_by_six(bounds, method, mode);
             let c = Constants::new(&setup, SceneKind::Blobs, 0.5, 4, 0);
             assert_eq!(c.guard_loops, GUARD_LOOPS);
@@ -956,11 +1175,18 @@ mod tests {
                         side: Side::Touch,
                     };
                     let (mut ra, mut ha) = ([r; 4], [HitOut::default(); 4]);
-                    let a = render_sphere_pixel(&c, &[], &[], &blobs, x, y, &mut ra, &mut ha, 0);
+                    let a = if method == kernel {
+                        render_pixel(&c, &[], &[], &blobs, x, y, &mut ra, &mut ha, 0)
+                    } else {
+                        unsupported()
+                    };
+                    if method == Method::Segment && method == kernel {
+                        segment_hits += usize::from(a.roots > 0);
+                    }
                     // In one leg (the CPU never cuts a loop short).
                     let (mut rb, mut hb) = ([r; 4], [HitOut::default(); 4]);
                     let (mut leg, mut out) = (PixelLeg::default(), PixelOut::default());
-                    render_sphere_leg(
+                    render_leg(
                         &c,
                         &[],
                         &[],
@@ -983,7 +1209,7 @@ mod tests {
                     while legl.phase != PHASE_DONE {
                         n += 1;
                         assert!(n < 1000);
-                        render_sphere_leg(
+                        render_leg(
                             &c3,
                             &[],
                             &[],
@@ -1001,12 +1227,12 @@ mod tests {
                         }
                     }
                     assert_eq!((outl, hl), (a, ha));
-                    if method == Method::Sphere {
+                    if method == kernel {
                         assert_eq!(n, a.steps.max(1).div_ceil(3), "{x} {y}");
                     }
                     // Done pixels are left alone.
                     let before = (leg, out, hb);
-                    render_sphere_leg(
+                    render_leg(
                         &c,
                         &[],
                         &[],
@@ -1028,7 +1254,7 @@ mod tests {
                         },
                         [HitOut::default(); 4],
                     );
-                    render_sphere_leg(
+                    render_leg(
                         &c,
                         &[],
                         &[],
@@ -1042,7 +1268,7 @@ mod tests {
                         &mut out,
                     );
                     assert_eq!((leg2.phase, out, hb2), (PHASE_DONE, a, ha));
-                    if method != Method::Sphere {
+                    if method != kernel {
                         assert_eq!(out.status, Status::Unsupported as u32);
                         continue;
                     }
@@ -1050,16 +1276,17 @@ mod tests {
                     let (mut rc, mut hc) = ([r; 4], [HitOut::default(); 4]);
                     let mut leg3 = PixelLeg::default();
                     let px = trace_pixel_with(&setup, x, y, 4, |ray, span| {
-                        leg3.sphere = SphereState::start(span, &setup.params);
-                        let l = trace_sphere_resume_in(
+                        leg3.state = MarchState::start(span, &setup.params);
+                        let l = trace_resume_in(
                             &field,
                             ray,
                             span,
+                            method,
                             mode,
                             &setup.params,
                             &mut rc,
                             [0, 4],
-                            &mut leg3.sphere,
+                            &mut leg3.state,
                             &mut Steps(3),
                         );
                         leg3.phase = if l.paused { PHASE_TRACING } else { PHASE_FRESH };
@@ -1071,7 +1298,7 @@ mod tests {
                     assert!(px.span.is_some());
                     resumed += 1;
                     let mut out3 = PixelOut::default();
-                    render_sphere_leg(
+                    render_leg(
                         &c,
                         &[],
                         &[],
@@ -1088,7 +1315,54 @@ mod tests {
                 }
             }
         }
-        assert!(resumed > 10, "{resumed}");
+        assert!(resumed > 20, "{resumed}");
+        assert!(segment_hits > 8, "{segment_hits}");
+    }
+
+    #[test]
+    fn kind_filtered_legs_trace_their_kind_alone() {
+        let (blobs, bounds) = two_blobs();
+        let setup = six_by_six(bounds, Method::Segment, Mode::Transparent);
+        let c = Constants::new(&setup, SceneKind::Blobs, 0.5, 4, 0);
+        let r = Root {
+            t: 0.0,
+            side: Side::Touch,
+        };
+        let mut hits_seen = 0;
+        for y in 0..6 {
+            for x in 0..6 {
+                let one = |kinds: u8| {
+                    let (mut rs, mut hs) = ([r; 4], [HitOut::default(); 4]);
+                    let (mut leg, mut out) = (PixelLeg::default(), PixelOut::default());
+                    let f = match kinds {
+                        0 => render_segment_leg,
+                        1 => render_segment_leg_in::<BlobsOnly>,
+                        _ => render_segment_leg_in::<GroupsOnly>,
+                    };
+                    f(
+                        &c,
+                        &[],
+                        &[],
+                        &blobs,
+                        x,
+                        y,
+                        &mut rs,
+                        &mut hs,
+                        0,
+                        &mut leg,
+                        &mut out,
+                    );
+                    assert_eq!(leg.phase, PHASE_DONE);
+                    (out, hs)
+                };
+                let all = one(0);
+                assert_eq!(one(1), all);
+                let (other, _) = one(2);
+                assert_eq!(other.status, Status::Unsupported as u32);
+                hits_seen += usize::from(all.0.roots > 0);
+            }
+        }
+        assert!(hits_seen > 4, "{hits_seen}");
     }
 
     #[test]

@@ -9,8 +9,12 @@
 //! - `arith_ops`: the arithmetic probe (`÷ × + −` as the driver computes
 //!   them), always built;
 //! - `trace_sphere`: sphere tracing in resumable legs
-//!   ([`render_sphere_leg`]), always built: a driver that inlines every
-//!   call (lavapipe) compiles it;
+//!   (`render_sphere_leg`), feature `sphere` (default): a driver that
+//!   inlines every call (lavapipe) compiles it;
+//! - `trace_segment_blobs` and `trace_segment_groups`: segment tracing in
+//!   resumable legs (`render_segment_leg_in`) of one scene kind each, the
+//!   same bindings, features `segment-blobs` and `segment-groups`: each in
+//!   a module of its own (`scripts/build-spirv.sh` builds all three);
 //! - `trace_pixels`: every GPU method ([`render_pixel`]), feature `trace`
 //!   (`BOUNDTRACE_SHADER_FEATURES=trace scripts/build-spirv.sh`): it links,
 //!   but is too large for such a driver (BENCHMARKS.md "GPU").
@@ -19,7 +23,15 @@
 use boundtrace_fields::PointBlob;
 #[cfg(feature = "trace")]
 use boundtrace_gpu_kernel::render_pixel;
-use boundtrace_gpu_kernel::{Constants, HitOut, PixelLeg, PixelOut, render_sphere_leg};
+#[cfg(feature = "segment-blobs")]
+use boundtrace_gpu_kernel::BlobsOnly;
+#[cfg(feature = "segment-groups")]
+use boundtrace_gpu_kernel::GroupsOnly;
+#[cfg(any(feature = "segment-blobs", feature = "segment-groups"))]
+use boundtrace_gpu_kernel::render_segment_leg_in;
+#[cfg(feature = "sphere")]
+use boundtrace_gpu_kernel::render_sphere_leg;
+use boundtrace_gpu_kernel::{Constants, HitOut, PixelLeg, PixelOut};
 use boundtrace_ia_core::Interval;
 use boundtrace_tracer::Root;
 use spirv_std::glam::UVec3;
@@ -98,6 +110,7 @@ pub fn trace_pixels(
 /// methods give `Unsupported` pixels). The host dispatches it until every
 /// pixel is done, so that a driver's loop limit costs dispatches, never
 /// results.
+#[cfg(feature = "sphere")]
 #[allow(clippy::too_many_arguments)]
 #[spirv(compute(threads(8, 8)))]
 pub fn trace_sphere(
@@ -111,6 +124,117 @@ pub fn trace_sphere(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] roots: &mut [Root<f32>],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] legs: &mut [PixelLeg],
 ) {
+    leg_entry(
+        id,
+        constants,
+        words,
+        floats,
+        blobs,
+        pixels,
+        hits,
+        roots,
+        legs,
+        render_sphere_leg,
+    );
+}
+
+/// [`trace_sphere`] for segment tracing of [`SceneKind::Blobs`] scenes
+/// (`render_segment_leg_in::<BlobsOnly>`): the same bindings, layout and
+/// legs. In a module of its own (feature `segment-blobs`).
+///
+/// [`SceneKind::Blobs`]: boundtrace_gpu_kernel::SceneKind::Blobs
+#[cfg(feature = "segment-blobs")]
+#[allow(clippy::too_many_arguments)]
+#[spirv(compute(threads(8, 8)))]
+pub fn trace_segment_blobs(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] constants: &Constants,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] words: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] floats: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] blobs: &[PointBlob<f32>],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] pixels: &mut [PixelOut],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] hits: &mut [HitOut],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] roots: &mut [Root<f32>],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] legs: &mut [PixelLeg],
+) {
+    leg_entry(
+        id,
+        constants,
+        words,
+        floats,
+        blobs,
+        pixels,
+        hits,
+        roots,
+        legs,
+        render_segment_leg_in::<BlobsOnly>,
+    );
+}
+
+/// [`trace_segment_blobs`] for [`SceneKind::BlobGroups`] scenes
+/// (`render_segment_leg_in::<GroupsOnly>`), in a module of its own
+/// (feature `segment-groups`).
+///
+/// [`SceneKind::BlobGroups`]: boundtrace_gpu_kernel::SceneKind::BlobGroups
+#[cfg(feature = "segment-groups")]
+#[allow(clippy::too_many_arguments)]
+#[spirv(compute(threads(8, 8)))]
+pub fn trace_segment_groups(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] constants: &Constants,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] words: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] floats: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] blobs: &[PointBlob<f32>],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] pixels: &mut [PixelOut],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] hits: &mut [HitOut],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] roots: &mut [Root<f32>],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] legs: &mut [PixelLeg],
+) {
+    leg_entry(
+        id,
+        constants,
+        words,
+        floats,
+        blobs,
+        pixels,
+        hits,
+        roots,
+        legs,
+        render_segment_leg_in::<GroupsOnly>,
+    );
+}
+
+/// The body of the leg entry points: one leg of pixel `(id.x, id.y)` by
+/// `render` (a kernel function, called directly: a generic, not a function
+/// pointer), its leg and record written back.
+#[cfg(any(feature = "sphere", feature = "segment-blobs", feature = "segment-groups"))]
+#[allow(clippy::too_many_arguments)]
+fn leg_entry<R>(
+    id: UVec3,
+    constants: &Constants,
+    words: &[u32],
+    floats: &[f32],
+    blobs: &[PointBlob<f32>],
+    pixels: &mut [PixelOut],
+    hits: &mut [HitOut],
+    roots: &mut [Root<f32>],
+    legs: &mut [PixelLeg],
+    render: R,
+) where
+    R: Fn(
+        &Constants,
+        &[u32],
+        &[f32],
+        &[PointBlob<f32>],
+        u32,
+        u32,
+        &mut [Root<f32>],
+        &mut [HitOut],
+        usize,
+        &mut PixelLeg,
+        &mut PixelOut,
+    ),
+{
     let c = *constants;
     if id.x >= c.width || id.y >= c.height {
         return;
@@ -122,7 +246,7 @@ pub fn trace_sphere(
     let base = i * c.max_roots as usize;
     let mut leg = legs[i];
     let mut out = pixels[i];
-    render_sphere_leg(
+    render(
         &c, words, floats, blobs, id.x, id.y, roots, hits, base, &mut leg, &mut out,
     );
     legs[i] = leg;

@@ -1,8 +1,9 @@
 //! GPU (SPIR-V on wgpu) vs CPU render time for a few scenes and methods:
-//! `sphere` (the module's `trace_sphere` entry point, always built), and
-//! `segment`, `quadratic-bottom-up`, `quadratic-mixed` when the module has
-//! `trace_pixels` (`BOUNDTRACE_SHADER_FEATURES=trace scripts/build-spirv.sh`;
-//! see BENCHMARKS.md "GPU"). Needs a Vulkan adapter.
+//! `sphere` and `segment` (the `trace_sphere` and `trace_segment_*` entry
+//! points, built by default), and `quadratic-bottom-up`,
+//! `quadratic-mixed` when the module has `trace_pixels`
+//! (`BOUNDTRACE_SHADER_FEATURES=trace scripts/build-spirv.sh`; see
+//! BENCHMARKS.md "GPU"). Needs a Vulkan adapter.
 //!
 //! ```text
 //! scripts/build-spirv.sh
@@ -12,10 +13,12 @@
 //! Prints, per scene × method, the best of `REPEATS` (default 3) wall-clock
 //! times of a `SIZE × SIZE` (default 128) frame: the single-threaded CPU
 //! renderer (`render_serial`, f32) and the GPU (upload, dispatch, read-back
-//! and frame assembly included; the pipeline is built once before), and
+//! and frame assembly included; each method's pipeline is built once
+//! before, by an 8 × 8 frame whose time is printed), and
 //! their ratio. Also compares the frames (hit/miss and step counts per
-//! pixel) and prints the dispatches the GPU frame took (sphere tracing runs
-//! in legs: more than one where a driver's loop limit cut rays short).
+//! pixel) and prints the dispatches the GPU frame took (sphere and segment
+//! tracing run in legs: more than one where a driver's loop limit cut rays
+//! short).
 
 use boundtrace_gpu::{GpuScene, GpuTracer};
 use boundtrace_tracer::Method;
@@ -47,13 +50,31 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "| scene | method | CPU 1 thread (ms) | GPU (ms) | CPU / GPU | hit/miss agree | steps agree | GPU dispatches |"
     );
     println!("| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |");
+    let entries = gpu.entry_points();
     let mut methods = vec![Method::Sphere];
-    if gpu.entry_points().iter().any(|e| e == "trace_pixels") {
-        methods.extend([
-            Method::Segment,
-            Method::QuadraticBottomUp,
-            Method::QuadraticMixed,
-        ]);
+    if entries
+        .iter()
+        .any(|e| e.starts_with("trace_segment") || e == "trace_pixels")
+    {
+        methods.push(Method::Segment);
+    }
+    if entries.iter().any(|e| e == "trace_pixels") {
+        methods.extend([Method::QuadraticBottomUp, Method::QuadraticMixed]);
+    }
+    // Build every pipeline before timing (the first frame of a method and
+    // scene kind builds its pipeline).
+    for name in ["blobs", "blobs-sum"] {
+        let scene = Scene::<f32>::build(name, DEFAULT_SEED)?;
+        let data = GpuScene::from_scene(&scene)?;
+        let camera = Camera::framing(scene.bounds(), [0.3, -0.4, -1.0], 40.0, 1.0)?;
+        for &method in &methods[1..] {
+            let t = Instant::now();
+            gpu.render(&data, &camera, &RenderSettings::new(8, 8, method)?)?;
+            eprintln!(
+                "{name} {method}: pipeline built (and an 8x8 frame) in {:.2} s",
+                t.elapsed().as_secs_f64()
+            );
+        }
     }
     for name in ["blobs", "blobs-sum"] {
         let scene = Scene::<f32>::build(name, DEFAULT_SEED)?;

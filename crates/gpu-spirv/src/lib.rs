@@ -4,9 +4,11 @@
 //! for users), and returns the same [`Frame`] type as the CPU renderer.
 //!
 //! The shader is a thin wrapper: each invocation calls
-//! [`boundtrace_gpu_kernel::render_sphere_leg`] or
+//! [`boundtrace_gpu_kernel::render_sphere_leg`],
+//! [`boundtrace_gpu_kernel::render_segment_leg`] or
 //! [`boundtrace_gpu_kernel::render_pixel`], which call the tracer's
 //! [`trace_sphere_resume_in`](boundtrace_tracer::trace_sphere_resume_in) /
+//! [`trace_segment_resume_in`](boundtrace_tracer::trace_segment_resume_in) /
 //! [`trace_pixel`](boundtrace_tracer::pixel::trace_pixel) and
 //! [`normal`](boundtrace_tracer::normal) over the scene's flat data — the
 //! same code the CPU runs. Scenes are buffers ([`GpuScene`]), so a new
@@ -29,17 +31,19 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
-//! **Status** (issue 9, open): sphere tracing runs on the GPU and gives
-//! the CPU's frame: the module's `trace_sphere` entry point traces each
-//! pixel in resumable legs ([`boundtrace_gpu_kernel::render_sphere_leg`]),
-//! and [`GpuTracer::render`] dispatches until every pixel is done. On
+//! **Status** (issue 9, open): sphere and segment tracing run on the GPU
+//! and give the CPU's frame: the module's `trace_sphere` and
+//! `trace_segment_*` entry points trace each pixel in resumable legs
+//! ([`boundtrace_gpu_kernel::render_sphere_leg`],
+//! [`boundtrace_gpu_kernel::render_segment_leg`]), and
+//! [`GpuTracer::render`] dispatches until every pixel is done. On
 //! lavapipe, llvmpipe stops every loop of an 8-lane group after 65,535
 //! loop iterations in all, silently; a probe loop after each step sees
 //! it, the step is undone and the pixel resumes in the next dispatch, so
 //! the limit costs dispatches, never results (CI: `tests/difftest.rs`,
-//! every pixel of both blob scenes in both modes). [`interval_probe`] and
+//! every pixel of both blob scenes in both modes, both methods). [`interval_probe`] and
 //! [`arith_probe`] check the driver's arithmetic against the CPU's. The
-//! other methods live in the `trace_pixels` entry point
+//! forward linear and quadratic methods live in the `trace_pixels` entry point
 //! ([`render_pixel`](boundtrace_gpu_kernel::render_pixel), shader feature
 //! `trace`), which rust-gpu links but which is still far too large for a
 //! driver that inlines every call; on a module without it
@@ -67,7 +71,7 @@ use boundtrace_fields::PointBlob;
 use boundtrace_gpu_kernel::{Constants, HitOut, PHASE_DONE, PixelLeg, PixelOut, WORKGROUP};
 pub use boundtrace_gpu_kernel::{MAX_GPU_ROOTS, SceneKind};
 use boundtrace_tracer::camera::Camera;
-use boundtrace_tracer::march::SphereState;
+use boundtrace_tracer::march::MarchState;
 use boundtrace_tracer::pixel::PixelSetup;
 use boundtrace_tracer::render::{Frame, Hit, Pixel, RenderError, RenderSettings};
 use boundtrace_tracer::scenes::{Scene, SceneField};
@@ -89,6 +93,21 @@ const ENTRY: &str = "trace_pixels";
 /// The compute entry point that traces pixels with sphere tracing (always
 /// in the module).
 const SPHERE_ENTRY: &str = "trace_sphere";
+
+/// The compute entry points that trace pixels with segment tracing, in
+/// legs like [`SPHERE_ENTRY`]: for [`SceneKind::Blobs`] and
+/// [`SceneKind::BlobGroups`] scenes, each in a module of its own
+/// ([`segment_spirv_path`]).
+const SEGMENT_ENTRIES: [&str; 2] = ["trace_segment_blobs", "trace_segment_groups"];
+
+/// The index of `kind` in [`SEGMENT_ENTRIES`].
+fn segment_slot(kind: SceneKind) -> Option<usize> {
+    match kind {
+        SceneKind::Blobs => Some(0),
+        SceneKind::BlobGroups => Some(1),
+        SceneKind::Blobtree => None,
+    }
+}
 
 /// An error of the GPU path.
 #[derive(Debug)]
@@ -180,6 +199,21 @@ pub fn default_spirv_path() -> PathBuf {
         .map(|t| if t.is_absolute() { t } else { repo.join(t) })
         .unwrap_or_else(|| repo.join("target"));
     target.join("spirv").join("boundtrace-gpu-shader.spv")
+}
+
+/// Where [`GpuTracer::new`] looks for the segment-tracing module of scenes
+/// of `kind` (the `trace_segment_blobs` / `trace_segment_groups` entry
+/// points, built by [`BUILD_COMMAND`] into modules of their own): beside
+/// [`default_spirv_path`], `…/boundtrace-gpu-shader-segment-blobs.spv` and
+/// `…-segment-groups.spv` (for `BOUNDTRACE_GPU_SPV=dir/x.spv`:
+/// `dir/x-segment-blobs.spv`, …); `None` for blobtrees (no GPU data yet).
+pub fn segment_spirv_path(kind: SceneKind) -> Option<PathBuf> {
+    let suffix = ["blobs", "groups"][segment_slot(kind)?];
+    let main = default_spirv_path();
+    let stem = main
+        .file_stem()
+        .map_or_else(|| "boundtrace-gpu-shader".into(), |s| s.to_string_lossy());
+    Some(main.with_file_name(format!("{stem}-segment-{suffix}.spv")))
 }
 
 /// A scene as GPU buffers: blobtree node words and parameters, or blobs
@@ -298,10 +332,19 @@ pub struct GpuTracer {
     queue: wgpu::Queue,
     /// The module's words, for the pipelines created on first use.
     module: Vec<u8>,
+    /// The segment-tracing modules' words ([`SEGMENT_ENTRIES`]' order),
+    /// where there are some.
+    segment_modules: [Option<Vec<u8>>; 2],
     /// The bind group layout shared by the tracing entry points.
     layout: wgpu::PipelineLayout,
     /// `trace_sphere`'s pipeline, created by [`GpuTracer::new`].
     sphere: wgpu::ComputePipeline,
+    /// The segment-tracing pipelines ([`SEGMENT_ENTRIES`]' order), created
+    /// on first use (a driver takes about as long as for `trace_sphere`:
+    /// only segment renders pay).
+    segment: [OnceLock<Result<wgpu::ComputePipeline, String>>; 2],
+    /// Held while a pipeline created on first use compiles.
+    compiling: std::sync::Mutex<()>,
     /// `trace_pixels`' pipeline (every method), created on first use: a
     /// driver may take long or fail to compile it (lavapipe runs out of
     /// memory), so only renders that need it pay.
@@ -345,7 +388,24 @@ impl GpuTracer {
     /// is absent; [`GpuError::NoAdapter`] without a usable adapter; device
     /// or shader errors.
     pub fn new() -> Result<Self, GpuError> {
-        Self::with_spirv(&load_module()?)
+        let main = load_module()?;
+        // The segment modules are optional: without one, segment tracing
+        // of that scene kind is a `MethodUnavailable` error naming the
+        // build command.
+        let mut segment = [None, None];
+        for (slot, kind) in segment
+            .iter_mut()
+            .zip([SceneKind::Blobs, SceneKind::BlobGroups])
+        {
+            if let Some(path) = segment_spirv_path(kind) {
+                *slot = match load_module_at(path) {
+                    Ok(bytes) => Some(bytes),
+                    Err(GpuError::ShaderMissing { .. }) => None,
+                    Err(e) => return Err(e),
+                };
+            }
+        }
+        Self::with_spirv_modules(&main, [segment[0].as_deref(), segment[1].as_deref()])
     }
 
     /// As [`new`](Self::new), with the module's bytes given.
@@ -354,12 +414,25 @@ impl GpuTracer {
     /// As [`new`](Self::new); [`GpuError::Shader`] for bytes that are not a
     /// valid module with the `trace_pixels` entry point.
     pub fn with_spirv(bytes: &[u8]) -> Result<Self, GpuError> {
-        if bytes.len() < 20 || bytes.len() % 4 != 0 || bytes[..4] != [0x03, 0x02, 0x23, 0x07] {
-            return Err(GpuError::Shader(
-                "not a SPIR-V module (bad magic or size)".into(),
-            ));
+        Self::with_spirv_modules(bytes, [None, None])
+    }
+
+    /// As [`with_spirv`](Self::with_spirv), with the segment-tracing
+    /// modules ([`segment_spirv_path`]) of [`SceneKind::Blobs`] and
+    /// [`SceneKind::BlobGroups`] scenes, in that order, where there are
+    /// some.
+    ///
+    /// # Errors
+    /// As [`with_spirv`](Self::with_spirv); [`GpuError::Shader`] for a
+    /// segment module that is not a SPIR-V module.
+    pub fn with_spirv_modules(bytes: &[u8], segment: [Option<&[u8]>; 2]) -> Result<Self, GpuError> {
+        check_magic(bytes)?;
+        for s in segment.iter().flatten() {
+            check_magic(s)?;
         }
-        pollster::block_on(Self::create(bytes))
+        let mut gpu = pollster::block_on(Self::create(bytes))?;
+        gpu.segment_modules = segment.map(|m| m.map(<[u8]>::to_vec));
+        Ok(gpu)
     }
 
     async fn create(bytes: &[u8]) -> Result<Self, GpuError> {
@@ -399,43 +472,108 @@ impl GpuTracer {
             device,
             queue,
             module: bytes.to_vec(),
+            segment_modules: [None, None],
             layout,
             sphere,
+            segment: [OnceLock::new(), OnceLock::new()],
+            compiling: std::sync::Mutex::new(()),
             general: OnceLock::new(),
         })
     }
 
-    /// The names of the module's compute entry points (`interval_square`,
-    /// `trace_sphere`, and `trace_pixels` when the shader was built with its
-    /// `trace` feature).
+    /// The names of the compute entry points of the module
+    /// (`trace_sphere`, `interval_square`, `arith_ops`, and `trace_pixels`
+    /// when the shader was built with its `trace` feature) and of the
+    /// segment modules (`trace_segment_blobs`, `trace_segment_groups`, and
+    /// their own probes), without repeats.
     pub fn entry_points(&self) -> Vec<String> {
-        entry_points(&self.module)
+        let mut all = entry_points(&self.module);
+        for e in self
+            .segment_modules
+            .iter()
+            .flatten()
+            .flat_map(|m| entry_points(m))
+        {
+            if !all.contains(&e) {
+                all.push(e);
+            }
+        }
+        all
     }
 
-    /// The pipeline that traces `method`: `trace_sphere` for sphere
-    /// tracing, else `trace_pixels`, created on first use.
-    fn pipeline(&self, method: Method) -> Result<&wgpu::ComputePipeline, GpuError> {
+    /// The pipeline that traces `method` on scenes of `kind`, and whether
+    /// it runs in legs: `trace_sphere` for sphere tracing, the kind's
+    /// segment entry point for segment tracing (in the main module of a
+    /// custom build, else in the kind's segment module), else
+    /// `trace_pixels`; all but the first created on first use.
+    fn pipeline(
+        &self,
+        method: Method,
+        kind: SceneKind,
+    ) -> Result<(&wgpu::ComputePipeline, bool), GpuError> {
         if method == Method::Sphere {
-            return Ok(&self.sphere);
+            return Ok((&self.sphere, true));
         }
         let unavailable = |why: String| GpuError::MethodUnavailable { method, why };
-        if !entry_points(&self.module).iter().any(|e| e == ENTRY) {
+        let entries = entry_points(&self.module);
+        let has = |m: &[u8], e: &str| entry_points(m).iter().any(|x| x == e);
+        let slot = segment_slot(kind);
+        if let (Method::Segment, Some(slot)) = (method, slot) {
+            let entry = SEGMENT_ENTRIES[slot];
+            let module = if has(&self.module, entry) {
+                Some(&self.module)
+            } else {
+                self.segment_modules[slot]
+                    .as_ref()
+                    .filter(|m| has(m, entry))
+            };
+            if let Some(module) = module {
+                return self
+                    .lazy_pipeline(&self.segment[slot], module, entry)
+                    .as_ref()
+                    .map(|p| (p, true))
+                    .map_err(|e| unavailable(e.clone()));
+            }
+        }
+        if !entries.iter().any(|e| e == ENTRY) {
+            let segment = match slot.map(|i| self.segment_modules[i].is_some()) {
+                Some(false) => format!(
+                    "; segment tracing of this scene kind is in {}, which is missing \
+                     (`{BUILD_COMMAND}` builds it)",
+                    segment_spirv_path(kind).unwrap_or_default().display(),
+                ),
+                _ => String::new(),
+            };
             return Err(unavailable(format!(
-                "the module has only `{SPHERE_ENTRY}` (sphere tracing); every method is in \
-                 `{ENTRY}`, built by BOUNDTRACE_SHADER_FEATURES=trace {BUILD_COMMAND}, which \
-                 drivers that inline every call (lavapipe) cannot compile yet \
-                 (BENCHMARKS.md \"GPU\")"
+                "the module has `{SPHERE_ENTRY}` (sphere tracing) and the segment modules \
+                 `{}`/`{}` (segment tracing){segment}; every method is in `{ENTRY}`, built by \
+                 BOUNDTRACE_SHADER_FEATURES=sphere,trace {BUILD_COMMAND}, which drivers that \
+                 inline every call (lavapipe) cannot compile yet (BENCHMARKS.md \"GPU\")",
+                SEGMENT_ENTRIES[0], SEGMENT_ENTRIES[1]
             )));
         }
-        let general = self.general.get_or_init(|| {
-            pollster::block_on(tracing_pipeline(
-                &self.device,
-                &self.layout,
-                &self.module,
-                ENTRY,
-            ))
-        });
-        general.as_ref().map_err(|e| unavailable(e.clone()))
+        self.lazy_pipeline(&self.general, &self.module, ENTRY)
+            .as_ref()
+            .map(|p| (p, false))
+            .map_err(|e| unavailable(e.clone()))
+    }
+
+    /// The pipeline of `module`'s `entry` in `cell`, created on first use.
+    fn lazy_pipeline<'a>(
+        &'a self,
+        cell: &'a OnceLock<Result<wgpu::ComputePipeline, String>>,
+        module: &[u8],
+        entry: &str,
+    ) -> &'a Result<wgpu::ComputePipeline, String> {
+        cell.get_or_init(|| {
+            // One pipeline compilation at a time: lavapipe needs several
+            // gigabytes for each.
+            let _one = self
+                .compiling
+                .lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner);
+            pollster::block_on(tracing_pipeline(&self.device, &self.layout, module, entry))
+        })
     }
 
     /// The adapter in use (name, backend, device type: lavapipe reports
@@ -451,9 +589,9 @@ impl GpuTracer {
     /// # Errors
     /// Invalid settings ([`GpuError::Render`]); more than [`MAX_GPU_ROOTS`]
     /// roots per pixel in transparent mode; [`GpuError::MethodUnavailable`]
-    /// for a method other than [`Method::Sphere`] when the module lacks the
-    /// `trace_pixels` entry point or the driver cannot compile it; device
-    /// errors.
+    /// for a method other than [`Method::Sphere`] and [`Method::Segment`]
+    /// when the module lacks the `trace_pixels` entry point, or when the
+    /// driver cannot compile the method's entry point; device errors.
     pub fn render(
         &self,
         scene: &GpuScene,
@@ -464,10 +602,10 @@ impl GpuTracer {
             .map(|(frame, _)| frame)
     }
 
-    /// [`render`](Self::render), sphere tracing at most `leg_steps` steps
-    /// per pixel and dispatch (`0`: no limit), with the number of
-    /// dispatches the frame took: one for the `trace_pixels` methods; for
-    /// sphere tracing one per leg (one on a driver without a loop limit
+    /// [`render`](Self::render), sphere or segment tracing at most
+    /// `leg_steps` steps per pixel and dispatch (`0`: no limit), with the
+    /// number of dispatches the frame took: one for the `trace_pixels`
+    /// methods; for sphere and segment tracing one per leg (one on a driver without a loop limit
     /// when `leg_steps` is `0`; on lavapipe as many as its loop limit
     /// needs). The frame is the same whatever the legs. Short dispatches
     /// keep a GPU watchdog quiet on heavy frames, and show that resumed
@@ -502,14 +640,14 @@ impl GpuTracer {
             mode: settings.mode,
             params: settings.params,
         };
-        let pipeline = self.pipeline(settings.method)?;
+        let (pipeline, resumable) = self.pipeline(settings.method, scene.kind)?;
         let c = Constants {
             leg_steps,
             ..Constants::new(&setup, scene.kind, scene.iso, slots, scene.groups)
         };
         let n = settings.width as usize * settings.height as usize;
         let (pix_words, hit_words, dispatches) =
-            self.run(pipeline, &c, scene, n, n * slots as usize)?;
+            self.run(pipeline, resumable, &c, scene, n, n * slots as usize)?;
         let mut pixels = Vec::with_capacity(n);
         let mut hits = Vec::new();
         for i in 0..n {
@@ -538,11 +676,13 @@ impl GpuTracer {
         Ok((frame, dispatches))
     }
 
-    /// Uploads, dispatches (until every pixel is done) and reads back the
-    /// pixel and hit words; also the number of dispatches.
+    /// Uploads, dispatches (until every pixel is done, for a `resumable`
+    /// entry point) and reads back the pixel and hit words; also the number
+    /// of dispatches.
     fn run(
         &self,
         pipeline: &wgpu::ComputePipeline,
+        resumable: bool,
         c: &Constants,
         scene: &GpuScene,
         pixels: usize,
@@ -624,8 +764,8 @@ impl GpuTracer {
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(GpuError::Dispatch(error_chain(&e)));
         }
-        // Sphere tracing runs in legs: dispatch until every pixel is done.
-        let resumable = std::ptr::eq(pipeline, &self.sphere);
+        // Sphere and segment tracing run in legs: dispatch until every
+        // pixel is done.
         let mut dispatches = 0u32;
         let mut progress = None;
         loop {
@@ -660,7 +800,7 @@ impl GpuTracer {
             }
             if progress == Some(now) {
                 return Err(GpuError::Dispatch(format!(
-                    "{pending} pixels made no progress in a dispatch: one sphere-tracing \
+                    "{pending} pixels made no progress in a dispatch: one tracing \
                      step (or the normals of one pixel) of this scene needs more loop \
                      iterations than the driver allows in one shader invocation \
                      (llvmpipe/lavapipe: 65,535 per 8 pixels); use fewer primitives \
@@ -687,8 +827,8 @@ fn leg_progress(words: &[u32]) -> (usize, u64) {
     let mut total = 0u64;
     use core::mem::offset_of;
     let phase_at = offset_of!(PixelLeg, phase) / 4;
-    let steps_at = (offset_of!(PixelLeg, sphere)
-        + offset_of!(SphereState<f32>, stats)
+    let steps_at = (offset_of!(PixelLeg, state)
+        + offset_of!(MarchState<f32>, stats)
         + offset_of!(RayStats, steps))
         / 4;
     for leg in words.chunks_exact(LEG_WORDS) {
@@ -882,18 +1022,28 @@ fn forbid_contraction(words: &[u32]) -> Vec<u32> {
 
 /// Reads the module from [`default_spirv_path`].
 fn load_module() -> Result<Vec<u8>, GpuError> {
-    let path = default_spirv_path();
+    load_module_at(default_spirv_path())
+}
+
+/// The module at `path`, checked for SPIR-V's magic number.
+fn load_module_at(path: PathBuf) -> Result<Vec<u8>, GpuError> {
     if !path.is_file() {
         return Err(GpuError::ShaderMissing { path });
     }
     let bytes = std::fs::read(&path)
         .map_err(|e| GpuError::Shader(format!("cannot read {}: {e}", path.display())))?;
+    check_magic(&bytes)?;
+    Ok(bytes)
+}
+
+/// [`GpuError::Shader`] unless `bytes` look like a SPIR-V module.
+fn check_magic(bytes: &[u8]) -> Result<(), GpuError> {
     if bytes.len() < 20 || bytes.len() % 4 != 0 || bytes[..4] != [0x03, 0x02, 0x23, 0x07] {
         return Err(GpuError::Shader(
             "not a SPIR-V module (bad magic or size)".into(),
         ));
     }
-    Ok(bytes)
+    Ok(())
 }
 
 /// The toolchain probe: runs the module's `interval_square` entry point,
@@ -1170,19 +1320,20 @@ mod tests {
                 phase,
                 ..PixelLeg::default()
             };
-            l.sphere.stats.steps = steps;
-            l.sphere.t = 1.5;
+            l.state.stats.steps = steps;
+            l.state.t = 1.5;
             let w: [u32; LEG_WORDS] = [
-                l.sphere.t.to_bits(),
-                l.sphere.omega.to_bits(),
+                l.state.t.to_bits(),
+                l.state.omega.to_bits(),
+                l.state.win.to_bits(),
                 0,
                 0,
-                l.sphere.has_known,
-                l.sphere.prev as u32,
-                l.sphere.roots,
-                l.sphere.stats.steps,
-                l.sphere.stats.field_evals,
-                l.sphere.stats.bound_evals,
+                l.state.has_known,
+                l.state.prev as u32,
+                l.state.roots,
+                l.state.stats.steps,
+                l.state.stats.field_evals,
+                l.state.stats.bound_evals,
                 l.phase,
             ];
             w

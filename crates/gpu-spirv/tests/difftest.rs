@@ -6,8 +6,9 @@
 //! counts identical on ≥ 99 % of pixels, and the trace status identical on
 //! ≥ 99.9 %.
 //!
-//! Sphere tracing (the module's `trace_sphere` entry point) runs in CI on
-//! lavapipe, every pixel compared. The other methods need the `trace_pixels` entry point (the
+//! Sphere and segment tracing (the module's `trace_sphere` and
+//! `trace_segment_*` entry points) run in CI on lavapipe, every pixel
+//! compared. The other methods need the `trace_pixels` entry point (the
 //! shader's `trace` feature: `BOUNDTRACE_SHADER_FEATURES=trace
 //! scripts/build-spirv.sh`), which links but is too large for a driver
 //! that inlines every call (lavapipe: BENCHMARKS.md "GPU"); their tests are
@@ -183,19 +184,31 @@ fn sphere_matches_the_cpu_in_both_modes() {
     run(Mode::Transparent, &[Method::Sphere], &SCENES);
 }
 
-/// Resumption on the GPU: sphere tracing in legs of at most 7 steps per
-/// dispatch gives the frame of unlimited legs, bit for bit (records, roots
-/// and normals), in both modes.
+/// Segment tracing (the segment modules' `trace_segment_*` entry points, in legs like
+/// sphere tracing) against the CPU on every pixel of both scenes, opaque
+/// and transparent, with the issue's thresholds.
 #[test]
-fn sphere_in_short_legs_matches_unlimited_legs() {
+fn segment_matches_the_cpu_in_both_modes() {
+    run(Mode::Opaque, &[Method::Segment], &SCENES);
+    run(Mode::Transparent, &[Method::Segment], &SCENES);
+}
+
+/// Resumption on the GPU: sphere and segment tracing in legs of at most 7
+/// steps per dispatch give the frames of unlimited legs, bit for bit
+/// (records, roots and normals), in both modes.
+#[test]
+fn short_legs_match_unlimited_legs() {
     let Some(gpu) = gpu() else { return };
     let mut failures = Vec::new();
     for name in SCENES {
         let scene = Scene::<f32>::build(name, DEFAULT_SEED).unwrap();
         let data = GpuScene::from_scene(&scene).unwrap();
         let camera = Camera::framing(scene.bounds(), [0.3, -0.4, -1.0], 40.0, 1.0).unwrap();
-        for mode in [Mode::Opaque, Mode::Transparent] {
-            let settings = RenderSettings::new(16, 16, Method::Sphere)
+        for (method, mode) in [Method::Sphere, Method::Segment]
+            .into_iter()
+            .flat_map(|m| [(m, Mode::Opaque), (m, Mode::Transparent)])
+        {
+            let settings = RenderSettings::new(16, 16, method)
                 .unwrap()
                 .with_mode(mode)
                 .with_max_roots(MAX_GPU_ROOTS)
@@ -220,7 +233,7 @@ fn sphere_in_short_legs_matches_unlimited_legs() {
                 }
             }
             let summary = format!(
-                "{name} {mode:?}: {differ} of 256 pixels differ; {d0} dispatches unlimited, \
+                "{name} {method} {mode:?}: {differ} of 256 pixels differ; {d0} dispatches unlimited, \
                  {d7} in legs of 7 steps (max {max_steps} steps)"
             );
             eprintln!("{summary}");
@@ -242,13 +255,13 @@ fn methods_without_an_entry_point_are_refused_clearly() {
     let scene = Scene::<f32>::build("blobs", DEFAULT_SEED).unwrap();
     let data = GpuScene::from_scene(&scene).unwrap();
     let camera = Camera::framing(scene.bounds(), [0.0, 0.0, -1.0], 40.0, 1.0).unwrap();
-    let settings = RenderSettings::new(8, 8, Method::Segment).unwrap();
+    let settings = RenderSettings::new(8, 8, Method::QuadraticMixed).unwrap();
     let err = gpu.render(&data, &camera, &settings).unwrap_err();
     assert!(
         matches!(
             err,
             GpuError::MethodUnavailable {
-                method: Method::Segment,
+                method: Method::QuadraticMixed,
                 ..
             }
         ),
@@ -256,7 +269,7 @@ fn methods_without_an_entry_point_are_refused_clearly() {
     );
     let msg = err.to_string();
     assert!(
-        msg.contains("segment") && msg.contains("trace_pixels"),
+        msg.contains("quadratic-mixed") && msg.contains("trace_pixels"),
         "{msg}"
     );
 }

@@ -44,6 +44,7 @@ use crate::method::{Method, Mode, Params};
 use crate::trace::{RayStats, Root, Side, Status, Trace};
 use boundtrace_ia_core::{Interval, Real, round};
 use boundtrace_inclusion::{BoundKind, Composition, Field, ForwardLinear, ForwardQuadratic, Ray};
+use core::marker::PhantomData;
 
 /// The sign of an enclosure: `1` if it is positive, `-1` if negative, `0`
 /// if it contains `0` (or is empty).
@@ -76,7 +77,7 @@ pub(crate) fn value_enclosure<T: Real, F: Field<T>>(field: &F, ray: &Ray<T>, t: 
 
 /// What a bound says at `t` about `[t, t + h]`.
 #[derive(Clone, Copy, Debug)]
-struct StepBound<T> {
+pub(crate) struct StepBound<T> {
     /// Enclosure of `f(t)`.
     start: Interval<T>,
     /// The proven root-free length `τ` (the relevant side's first root), or
@@ -91,6 +92,17 @@ struct StepBound<T> {
 }
 
 impl<T: Real> StepBound<T> {
+    /// No bound at `t` (supported method): the marcher certifies the step
+    /// with interval enclosures.
+    fn none() -> Self {
+        Self {
+            start: Interval::EMPTY,
+            safe: None,
+            h: T::ZERO,
+            supported: true,
+        }
+    }
+
     /// The bound's answer, clipped to the window length `len` it was built
     /// for (a bound of `f` on `[t, t + len]` says nothing beyond it, even if
     /// its validity is longer, e.g. a constant where every primitive was
@@ -452,34 +464,7 @@ fn window_bound<T: Real, F: Field<T>>(
         )
     };
     match method {
-        Method::Segment => {
-            // Galin et al.'s local Lipschitz bound λ = max |f′| on the
-            // segment (eq. 11): from the Taylor lines when the field has
-            // them, else from the bottom-up lines.
-            stats.bound_evals += 1;
-            let b = match field.taylor_linear(ray, t, e) {
-                Some(b) => b,
-                None => field.eval(ray.at(t, e)),
-            };
-            if !b.is_valid() {
-                return StepBound::from_linear(b, len);
-            }
-            let [m_lo, m_hi] = b.slopes();
-            let lambda = m_lo.abs().max(m_hi.abs());
-            if !lambda.is_finite() {
-                // No local Lipschitz bound here (e.g. |x| at x = 0).
-                return StepBound {
-                    start: Interval::EMPTY,
-                    safe: None,
-                    h: T::ZERO,
-                    supported: true,
-                };
-            }
-            StepBound::from_linear(
-                ForwardLinear::lipschitz(b.start(), lambda, b.validity().min(len)),
-                len,
-            )
-        }
+        Method::Segment => segment_bound(field, ray, t, e, stats),
         Method::LinearTaylor => {
             StepBound::from_linear_or_unsupported(linear(BoundKind::Taylor, stats), len)
         }
@@ -503,6 +488,60 @@ fn window_bound<T: Real, F: Field<T>>(
             StepBound::unsupported()
         }
     }
+}
+
+/// Segment tracing's bound (Galin et al. 2020) at `t` on `[t, e]`.
+fn segment_bound<T: Real, F: Field<T>>(
+    field: &F,
+    ray: &Ray<T>,
+    t: T,
+    e: T,
+    stats: &mut RayStats,
+) -> StepBound<T> {
+    // Galin et al.'s local Lipschitz bound λ = max |f′| on the
+    // segment (eq. 11): from the Taylor lines when the field has
+    // them, else from the bottom-up lines.
+    stats.bound_evals += 1;
+    let b = match field.taylor_linear(ray, t, e) {
+        Some(b) => b,
+        None => field.eval(ray.at(t, e)),
+    };
+    segment_from_lines(b, e - t)
+}
+
+/// [`segment_bound`] from the Taylor lines only: where the field has none
+/// on `[t, e]`, no bound (the marcher certifies the step with interval
+/// enclosures, as at a kink).
+fn segment_taylor_bound<T: Real, F: Field<T>>(
+    field: &F,
+    ray: &Ray<T>,
+    t: T,
+    e: T,
+    stats: &mut RayStats,
+) -> StepBound<T> {
+    stats.bound_evals += 1;
+    match field.taylor_linear(ray, t, e) {
+        Some(b) => segment_from_lines(b, e - t),
+        None => StepBound::none(),
+    }
+}
+
+/// Segment tracing's bound from lines `b` on a window of length `len`: the
+/// Lipschitz lines of `λ = max |m±|` from `b`'s start.
+fn segment_from_lines<T: Real>(b: ForwardLinear<T>, len: T) -> StepBound<T> {
+    if !b.is_valid() {
+        return StepBound::from_linear(b, len);
+    }
+    let [m_lo, m_hi] = b.slopes();
+    let lambda = m_lo.abs().max(m_hi.abs());
+    if !lambda.is_finite() {
+        // No local Lipschitz bound here (e.g. |x| at x = 0).
+        return StepBound::none();
+    }
+    StepBound::from_linear(
+        ForwardLinear::lipschitz(b.start(), lambda, b.validity().min(len)),
+        len,
+    )
 }
 
 /// The bottom-up quadratic bound of `f` on `[t, e]`, composed with the
@@ -591,24 +630,153 @@ pub(crate) fn march<T: Real, F: Field<T>>(
     if method == Method::Sphere {
         return sphere(field, ray, span, mode, params, roots);
     }
-    let [t0, t1] = span;
-    let eps = params.eps;
+    let mut state = MarchState::start(span, params);
+    let next = window_run::<AnyWindow, _, _, _>(
+        field,
+        ray,
+        span,
+        mode,
+        params,
+        roots,
+        &mut state,
+        &mut Unguarded,
+        method,
+    );
+    final_record(next)
+}
+
+/// Which bound a window marcher builds: a type rather than a [`Method`]
+/// value, so that a caller needing one method links that method's bound
+/// alone (a GPU driver inlines every call: BENCHMARKS.md "GPU").
+///
+/// Associated functions, not methods: rust-gpu cannot take a pointer to a
+/// zero-sized field ("cannot offset a pointer to an arbitrary element").
+pub(crate) trait WindowBounds {
+    /// The bound of `method` at `t` on `[t, e]` (see [`window_bound`]).
+    fn bound<T: Real, F: Field<T>>(
+        method: Method,
+        field: &F,
+        ray: &Ray<T>,
+        t: T,
+        e: T,
+        stats: &mut RayStats,
+    ) -> StepBound<T>;
+}
+
+/// Every window method, chosen at run time.
+pub(crate) struct AnyWindow;
+
+impl WindowBounds for AnyWindow {
+    fn bound<T: Real, F: Field<T>>(
+        method: Method,
+        field: &F,
+        ray: &Ray<T>,
+        t: T,
+        e: T,
+        stats: &mut RayStats,
+    ) -> StepBound<T> {
+        window_bound(field, ray, t, e, method, stats)
+    }
+}
+
+/// [`Method::Segment`] from Taylor lines only (whatever the method given):
+/// the bottom-up lines' code is ≈ 30 times larger than the Taylor lines'
+/// on a GPU that inlines every call (BENCHMARKS.md "GPU").
+pub(crate) struct SegmentTaylor;
+
+impl WindowBounds for SegmentTaylor {
+    fn bound<T: Real, F: Field<T>>(
+        _method: Method,
+        field: &F,
+        ray: &Ray<T>,
+        t: T,
+        e: T,
+        stats: &mut RayStats,
+    ) -> StepBound<T> {
+        segment_taylor_bound(field, ray, t, e, stats)
+    }
+}
+
+/// The window marcher (forward-inclusion paper Alg. 1) from `st`, under
+/// `guard`: `stop` with the final record, or paused (`!stop`, `trace` the
+/// counts so far) with `st` where to resume.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn window_run<B: WindowBounds, T: Real, F: Field<T>, G: StepGuard>(
+    field: &F,
+    ray: &Ray<T>,
+    span: [T; 2],
+    mode: Mode,
+    params: &Params<T>,
+    roots: RootSlots<'_, T>,
+    st: &mut MarchState<T>,
+    guard: &mut G,
+    method: Method,
+) -> Next<T> {
     let mut w = Walk::new(roots, mode, params.eps);
-    let mut t = t0;
-    let mut win = t1 - t0;
-    let mut prev = 0i32;
-    loop {
-        if !(t < t1) {
-            return w.done(Status::Finished, t1);
-        }
-        if w.stats.steps >= params.max_steps {
-            return w.done(Status::MaxSteps, t);
-        }
+    w.n = st.roots;
+    w.stats = st.stats;
+    let mut s = Window::<T, B> {
+        t: st.t,
+        win: st.win,
+        prev: st.prev,
+        method,
+        bounds: PhantomData,
+    };
+    let next = run_guarded(field, ray, span[1], params, &mut s, &mut w, guard);
+    if !next.stop {
+        *st = MarchState {
+            t: s.t,
+            win: s.win,
+            prev: s.prev,
+            roots: w.n,
+            stats: w.stats,
+            ..*st
+        };
+    }
+    next
+}
+
+/// The loop variables of [`window_run`].
+struct Window<T, B> {
+    t: T,
+    /// The length of the next window.
+    win: T,
+    /// The sign before `t`.
+    prev: i32,
+    /// The method, for [`AnyWindow`].
+    method: Method,
+    bounds: PhantomData<B>,
+}
+
+impl<T: Copy, B> Clone for Window<T, B> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<T: Copy, B> Copy for Window<T, B> {}
+
+impl<T: Real, B: WindowBounds> Stepper<T> for Window<T, B> {
+    fn at(&self) -> T {
+        self.t
+    }
+
+    /// One step of Alg. 1 from `t` (before `t1`).
+    fn step<F: Field<T>>(
+        &mut self,
+        field: &F,
+        ray: &Ray<T>,
+        t1: T,
+        params: &Params<T>,
+        w: &mut Walk<'_, T>,
+    ) -> Next<T> {
+        let eps = params.eps;
+        let t = self.t;
         w.stats.steps += 1;
-        let e = advance(t, win.max(eps)).min(t1);
-        let b = window_bound(field, ray, t, e, method, &mut w.stats);
+        let e = advance(t, self.win.max(eps)).min(t1);
+        let b = B::bound(self.method, field, ray, t, e, &mut w.stats);
         if !b.supported {
-            return w.done(Status::Unsupported, t);
+            return w.stop(Status::Unsupported, t);
         }
         // A bound undefined at t, not exact there (e.g. |x| or √ at a kink
         // of the field), or valid on less than `eps` (validity intervals,
@@ -624,10 +792,10 @@ pub(crate) fn march<T: Real, F: Field<T>>(
         // The proven root-free length when a root may lie within eps.
         let near = if degenerate || (s != 0 && sign_of(b.start) == 0) {
             if let Some(step) = interval_step(field, ray, t, e, s, eps, &mut w.stats) {
-                prev = s;
-                t = advance(t, step);
-                win = step * params.k;
-                continue;
+                self.prev = s;
+                self.t = advance(t, step);
+                self.win = step * params.k;
+                return w.go(self.t);
             }
             Some(T::ZERO)
         } else {
@@ -638,26 +806,107 @@ pub(crate) fn march<T: Real, F: Field<T>>(
             }
         };
         if let Some(r) = near {
-            let p = probe(field, ray, t, t1, s, prev, r, eps, &mut w);
+            let p = probe(field, ray, t, t1, s, self.prev, r, eps, w);
             if p.next.stop {
-                return p.next.trace;
+                return p.next;
             }
-            let rooted = p.rooted;
-            (t, prev) = (p.t, p.sign);
+            (self.t, self.prev) = (p.t, p.sign);
             // Past a root (transparent mode) Alg. 1 starts afresh on the
             // rest of the span [t, t1]; after a cleared eps it grows again.
-            win = if rooted { t1 - t } else { eps * params.k };
-            continue;
+            self.win = if p.rooted {
+                t1 - self.t
+            } else {
+                eps * params.k
+            };
+            return w.go(self.t);
         }
         let step = match b.safe {
             Some(r) => min_step_extension(field, ray, t, t1, r, s, params, &mut w.stats),
             // No root of the bound on its validity interval: skip it all.
             None => b.h,
         };
-        prev = s;
-        t = advance(t, step);
-        win = step * params.k;
+        self.prev = s;
+        self.t = advance(t, step);
+        self.win = step * params.k;
+        w.go(self.t)
     }
+}
+
+/// The loop variables of a marcher, one step at a time.
+trait Stepper<T: Real>: Copy {
+    /// The ray parameter the next step starts from.
+    fn at(&self) -> T;
+    /// One step from [`at`](Stepper::at) (before `t1`): `stop` with the
+    /// final record, or go on from the updated loop variables.
+    fn step<F: Field<T>>(
+        &mut self,
+        field: &F,
+        ray: &Ray<T>,
+        t1: T,
+        params: &Params<T>,
+        w: &mut Walk<'_, T>,
+    ) -> Next<T>;
+}
+
+/// The marching loop under `guard`: `stop` with the final record, or
+/// paused (`!stop`) with `s` and `w` where to resume.
+fn run_guarded<T: Real, F: Field<T>, S: Stepper<T>, G: StepGuard>(
+    field: &F,
+    ray: &Ray<T>,
+    t1: T,
+    params: &Params<T>,
+    s: &mut S,
+    w: &mut Walk<'_, T>,
+    guard: &mut G,
+) -> Next<T> {
+    // A `while` on a flag, not `loop` with returns: a driver that ends loops
+    // early (llvmpipe's loop limit, see `StepGuard`) leaves this loop after
+    // a verified step with `running` still set, and the trace pauses there
+    // instead of running into code that Rust deems unreachable.
+    let mut out = w.go(s.at());
+    let mut running = true;
+    while running {
+        if !(s.at() < t1) {
+            out = w.stop(Status::Finished, t1);
+            running = false;
+            continue;
+        }
+        if w.stats.steps >= params.max_steps {
+            out = w.stop(Status::MaxSteps, s.at());
+            running = false;
+            continue;
+        }
+        if !guard.before_step(w.stats.steps) {
+            break;
+        }
+        // What the step may change, to undo it: the loop variables, the
+        // counters and the last root (a crossing may replace a touch).
+        let (before, n, stats) = (*s, w.n, w.stats);
+        let last = if n > 0 {
+            w.roots.get(n as usize - 1)
+        } else {
+            Root {
+                t: T::ZERO,
+                side: Side::Touch,
+            }
+        };
+        let next = s.step(field, ray, t1, params, w);
+        if !guard.after_step() {
+            if n > 0 {
+                w.roots.set(n as usize - 1, last);
+            }
+            (*s, w.n, w.stats) = (before, n, stats);
+            break;
+        }
+        if next.stop {
+            out = next;
+            running = false;
+        }
+    }
+    if running {
+        return w.go(s.at());
+    }
+    out
 }
 
 /// Sphere tracing with the global Lipschitz bound and optional
@@ -673,7 +922,7 @@ pub(crate) fn sphere<T: Real, F: Field<T>>(
     params: &Params<T>,
     roots: RootSlots<'_, T>,
 ) -> Trace<T> {
-    let mut state = SphereState::start(span, params);
+    let mut state = MarchState::start(span, params);
     let next = sphere_run(
         field,
         ray,
@@ -702,23 +951,27 @@ fn final_record<T>(next: Next<T>) -> Trace<T> {
     }
 }
 
-/// Everything a sphere trace carries from one step to the next, so that it
-/// can pause between two steps and resume later with the same result as
-/// an uninterrupted trace ([`trace_sphere_resume_in`](crate::trace_sphere_resume_in)).
+/// Everything a marcher carries from one step to the next, so that it can
+/// pause between two steps and resume later with the same result as an
+/// uninterrupted trace ([`trace_resume_in`](crate::trace_resume_in),
+/// [`trace_sphere_resume_in`](crate::trace_sphere_resume_in),
+/// [`trace_segment_resume_in`](crate::trace_segment_resume_in)).
 ///
-/// `#[repr(C)]`, 10 words for `f32`: the GPU keeps one per pixel in a
+/// `#[repr(C)]`, 11 words for `f32`: the GPU keeps one per pixel in a
 /// storage buffer between dispatches. The root buffer (roots `0..roots`)
-/// is kept by the caller.
+/// is kept by the caller. A state belongs to one method and one span.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[repr(C)]
-pub struct SphereState<T> {
+pub struct MarchState<T> {
     /// The ray parameter the next step starts from.
     pub t: T,
-    /// The over-relaxation factor still in force (`1` once an over-relaxed
-    /// step failed).
+    /// Sphere tracing: the over-relaxation factor still in force (`1` once
+    /// an over-relaxed step failed).
     pub omega: T,
-    /// The enclosure of `f(t)` when it is already known (`has_known != 0`):
-    /// its `[lo, hi]`.
+    /// Window methods: the length of the next window (Alg. 1).
+    pub win: T,
+    /// Sphere tracing: the enclosure of `f(t)` when it is already known
+    /// (`has_known != 0`): its `[lo, hi]`.
     pub known: [T; 2],
     /// `1` when `known` holds the enclosure of `f(t)`, else `0`.
     pub has_known: u32,
@@ -730,12 +983,13 @@ pub struct SphereState<T> {
     pub stats: RayStats,
 }
 
-impl<T: Real> SphereState<T> {
-    /// The state before the first step on `span`.
+impl<T: Real> MarchState<T> {
+    /// The state before the first step on `span`, for any marcher.
     pub fn start(span: [T; 2], params: &Params<T>) -> Self {
         Self {
             t: span[0],
             omega: params.omega,
+            win: span[1] - span[0],
             known: [T::ZERO; 2],
             has_known: 0,
             prev: 0,
@@ -785,7 +1039,7 @@ pub(crate) fn sphere_run<T: Real, F: Field<T>, G: StepGuard>(
     mode: Mode,
     params: &Params<T>,
     roots: RootSlots<'_, T>,
-    st: &mut SphereState<T>,
+    st: &mut MarchState<T>,
     guard: &mut G,
 ) -> Next<T> {
     let [t0, t1] = span;
@@ -808,55 +1062,26 @@ pub(crate) fn sphere_run<T: Real, F: Field<T>, G: StepGuard>(
         } else {
             None
         },
+        lambda,
     };
-    // A `while` on a flag, not `loop` with returns: a driver that ends loops
-    // early (llvmpipe's loop limit, see `StepGuard`) leaves this loop after
-    // a verified step with `running` still set, and the trace pauses there
-    // instead of running into code that Rust deems unreachable.
-    let mut out = w.go(s.t);
-    let mut running = true;
-    while running {
-        if !(s.t < t1) {
-            out = w.stop(Status::Finished, t1);
-            running = false;
-            continue;
-        }
-        if w.stats.steps >= params.max_steps {
-            out = w.stop(Status::MaxSteps, s.t);
-            running = false;
-            continue;
-        }
-        if !guard.before_step(w.stats.steps) {
-            break;
-        }
-        // What the step may change, to undo it: the loop variables, the
-        // counters and the last root (a crossing may replace a touch).
-        let (before, n, stats) = (s, w.n, w.stats);
-        let last = if n > 0 {
-            w.roots.get(n as usize - 1)
-        } else {
-            Root {
-                t: T::ZERO,
-                side: Side::Touch,
-            }
+    let next = run_guarded(field, ray, t1, params, &mut s, &mut w, guard);
+    if !next.stop {
+        let (known, has_known) = match s.known {
+            Some(k) => ([k.lo(), k.hi()], 1),
+            None => ([T::ZERO; 2], 0),
         };
-        let next = sphere_step(field, ray, t1, lambda, params, &mut s, &mut w);
-        if !guard.after_step() {
-            if n > 0 {
-                w.roots.set(n as usize - 1, last);
-            }
-            (s, w.n, w.stats) = (before, n, stats);
-            break;
-        }
-        if next.stop {
-            out = next;
-            running = false;
-        }
+        *st = MarchState {
+            t: s.t,
+            omega: s.omega,
+            known,
+            has_known,
+            prev: s.prev,
+            roots: w.n,
+            stats: w.stats,
+            ..*st
+        };
     }
-    if running {
-        return s.pause(&w, st);
-    }
-    out
+    next
 }
 
 /// The loop variables of [`sphere_run`].
@@ -868,84 +1093,70 @@ struct Sphere<T> {
     /// The enclosure of f at t when it is already known (after an
     /// over-relaxed step), to avoid evaluating it twice.
     known: Option<Interval<T>>,
+    /// The Lipschitz bound along the ray, `L·|d|` rounded up.
+    lambda: T,
 }
 
-impl<T: Real> Sphere<T> {
-    /// Saves the loop into `st` and answers "paused".
-    fn pause(&self, w: &Walk<'_, T>, st: &mut SphereState<T>) -> Next<T> {
-        let (known, has_known) = match self.known {
-            Some(k) => ([k.lo(), k.hi()], 1),
-            None => ([T::ZERO; 2], 0),
+impl<T: Real> Stepper<T> for Sphere<T> {
+    fn at(&self) -> T {
+        self.t
+    }
+
+    /// One sphere-tracing step from `t` (before `t1`).
+    fn step<F: Field<T>>(
+        &mut self,
+        field: &F,
+        ray: &Ray<T>,
+        t1: T,
+        params: &Params<T>,
+        w: &mut Walk<'_, T>,
+    ) -> Next<T> {
+        let eps = params.eps;
+        let t = self.t;
+        w.stats.steps += 1;
+        let f = match self.known.take() {
+            Some(f) => f,
+            None => {
+                w.stats.field_evals += 1;
+                value_enclosure(field, ray, t)
+            }
         };
-        *st = SphereState {
-            t: self.t,
-            omega: self.omega,
-            known,
-            has_known,
-            prev: self.prev,
-            roots: w.n,
-            stats: w.stats,
+        let sg = sign_of(f);
+        // |f| / λ, rounded down: the proven root-free length.
+        let r = if sg == 0 {
+            T::ZERO
+        } else {
+            round::div_down(f.mig(), self.lambda)
         };
+        if r < eps {
+            let p = probe(field, ray, t, t1, sg, self.prev, r, eps, w);
+            (self.t, self.prev) = (p.t, p.sign);
+            return p.next;
+        }
+        self.prev = sg;
+        if self.omega > T::ONE {
+            let step = r * self.omega;
+            let tn = advance(t, step).min(t1);
+            let fn_ = value_enclosure(field, ray, tn);
+            w.stats.field_evals += 1;
+            // Root-free radius around tn (0 if the sign changed or is unknown).
+            let rn = if sign_of(fn_) == sg {
+                round::div_down(fn_.mig(), self.lambda)
+            } else {
+                T::ZERO
+            };
+            if round::add_down(r, rn) >= tn - t || tn >= t1 {
+                self.t = tn;
+                self.known = Some(fn_);
+                return w.go(tn);
+            }
+            // Failed: fall back to the safe step, no more over-relaxation.
+            self.omega = T::ONE;
+        }
+        let step = min_step_extension(field, ray, t, t1, r, sg, params, &mut w.stats);
+        self.t = advance(t, step);
         w.go(self.t)
     }
-}
-
-/// One step of [`sphere_run`] from `s.t` (before `t1`): `stop` with the
-/// final record, or go on from the updated `s`.
-fn sphere_step<T: Real, F: Field<T>>(
-    field: &F,
-    ray: &Ray<T>,
-    t1: T,
-    lambda: T,
-    params: &Params<T>,
-    s: &mut Sphere<T>,
-    w: &mut Walk<'_, T>,
-) -> Next<T> {
-    let eps = params.eps;
-    let t = s.t;
-    w.stats.steps += 1;
-    let f = match s.known.take() {
-        Some(f) => f,
-        None => {
-            w.stats.field_evals += 1;
-            value_enclosure(field, ray, t)
-        }
-    };
-    let sg = sign_of(f);
-    // |f| / λ, rounded down: the proven root-free length.
-    let r = if sg == 0 {
-        T::ZERO
-    } else {
-        round::div_down(f.mig(), lambda)
-    };
-    if r < eps {
-        let p = probe(field, ray, t, t1, sg, s.prev, r, eps, w);
-        (s.t, s.prev) = (p.t, p.sign);
-        return p.next;
-    }
-    s.prev = sg;
-    if s.omega > T::ONE {
-        let step = r * s.omega;
-        let tn = advance(t, step).min(t1);
-        let fn_ = value_enclosure(field, ray, tn);
-        w.stats.field_evals += 1;
-        // Root-free radius around tn (0 if the sign changed or is unknown).
-        let rn = if sign_of(fn_) == sg {
-            round::div_down(fn_.mig(), lambda)
-        } else {
-            T::ZERO
-        };
-        if round::add_down(r, rn) >= tn - t || tn >= t1 {
-            s.t = tn;
-            s.known = Some(fn_);
-            return w.go(tn);
-        }
-        // Failed: fall back to the safe step, no more over-relaxation.
-        s.omega = T::ONE;
-    }
-    let step = min_step_extension(field, ray, t, t1, r, sg, params, &mut w.stats);
-    s.t = advance(t, step);
-    w.go(s.t)
 }
 
 #[cfg(test)]
@@ -1091,7 +1302,7 @@ mod tests {
         let p = Params::new();
         let span = [0.0, 6.0];
         let mut buf = [NONE; 2];
-        let mut st = SphereState::start(span, &p);
+        let mut st = MarchState::start(span, &p);
         let slots = RootSlots {
             buf: &mut buf,
             base: 0,
@@ -1157,7 +1368,7 @@ mod tests {
                         let whole =
                             trace_sphere_in(&Shells, &ray, span, mode, &p, &mut once, window);
                         let mut buf = [NONE; 8];
-                        let mut st = SphereState::start(span, &p);
+                        let mut st = MarchState::start(span, &p);
                         let mut calls = 0;
                         let mut legs = 0;
                         let last = loop {
@@ -1187,6 +1398,129 @@ mod tests {
         }
         // The guards did pause the traces.
         assert!(legs_seen > 500, "{legs_seen}");
+    }
+
+    #[test]
+    fn every_marcher_in_legs_matches_one_trace() {
+        use crate::trace::{trace_in, trace_resume_in, trace_segment_resume_in};
+        use boundtrace_fields::{Blobs, Kernel, PointBlob};
+        // Overlapping compact blobs: Taylor bounds exist, so every marcher
+        // runs; several crossings per ray in transparent mode.
+        let k = Kernel::compact(6, 1.0).unwrap();
+        let blobs = Blobs::new(
+            0.35,
+            [
+                PointBlob::new([-1.2, 0.0, 0.0], 1.0, k).unwrap(),
+                PointBlob::new([-0.3, 0.2, 0.0], 0.7, k).unwrap(),
+                PointBlob::new([0.9, -0.1, 0.1], 1.1, k).unwrap(),
+                PointBlob::new([1.7, 0.3, 0.0], 0.6, k).unwrap(),
+            ],
+        )
+        .unwrap();
+        let p = Params::new();
+        let mut legs_seen = 0;
+        for m in Method::ALL {
+            for y in [0.0, 0.3, 0.55, 0.7] {
+                let ray = Ray::new([-3.0, y, 0.05], [1.0, 0.0, 0.0]);
+                for mode in [Mode::Opaque, Mode::Transparent] {
+                    let (span, window) = ([0.0, 6.0], [1, 6]);
+                    let mut once = [NONE; 8];
+                    let whole = trace_in(&blobs, &ray, span, m, mode, &p, &mut once, window);
+                    let resumable = !matches!(
+                        m,
+                        Method::Interval | Method::Affine | Method::ScalisQuadratic
+                    );
+                    if resumable {
+                        assert!(whole.stats.steps > 0, "{m}");
+                    }
+                    for (every, undo) in [(1, 1000), (2, 3), (5, 2), (1000, 4)] {
+                        let mut buf = [NONE; 8];
+                        let mut st = MarchState::start(span, &p);
+                        let mut calls = 0;
+                        let mut legs = 0;
+                        let last = loop {
+                            legs += 1;
+                            assert!(legs < 10_000, "no progress");
+                            let mut guard = Faulty {
+                                left: every,
+                                undo,
+                                calls: &mut calls,
+                            };
+                            let leg = if m == Method::Segment && every == 2 {
+                                trace_segment_resume_in(
+                                    &blobs, &ray, span, mode, &p, &mut buf, window, &mut st,
+                                    &mut guard,
+                                )
+                            } else {
+                                trace_resume_in(
+                                    &blobs, &ray, span, m, mode, &p, &mut buf, window, &mut st,
+                                    &mut guard,
+                                )
+                            };
+                            if !leg.paused {
+                                break leg.trace;
+                            }
+                        };
+                        legs_seen += legs;
+                        if !resumable {
+                            assert_eq!((last.status, legs), (Status::Unsupported, 1), "{m}");
+                            continue;
+                        }
+                        assert_eq!(last, whole, "{m} y {y} {mode:?} {every}/{undo}");
+                        for (x, z) in once.iter().zip(&buf) {
+                            assert_eq!((x.t.to_bits(), x.side), (z.t.to_bits(), z.side));
+                        }
+                    }
+                }
+            }
+        }
+        // The guards did pause the traces.
+        assert!(legs_seen > 1000, "{legs_seen}");
+    }
+
+    #[test]
+    fn segment_from_taylor_lines_only_stays_sound_without_them() {
+        use crate::trace::{trace_in, trace_segment_resume_in};
+        // `Ball` has no Taylor lines: every step is certified by interval
+        // enclosures; the roots are those of the ball (within eps).
+        let p = Params::new();
+        for y in [0.0, 0.4, 0.9] {
+            let ray = Ray::new([-3.0, y, 0.0], [1.0, 0.0, 0.0]);
+            let x: f64 = (1.0 - y * y).sqrt();
+            let (span, window) = ([0.0, 6.0], [0, 4]);
+            let mut buf = [NONE; 4];
+            let mut st = MarchState::start(span, &p);
+            let leg = trace_segment_resume_in(
+                &Ball(1.0),
+                &ray,
+                span,
+                Mode::Transparent,
+                &p,
+                &mut buf,
+                window,
+                &mut st,
+                &mut Unguarded,
+            );
+            assert!(!leg.paused);
+            assert_eq!((leg.trace.status, leg.trace.roots), (Status::Finished, 2));
+            for (r, want) in buf.iter().zip([3.0 - x, 3.0 + x]) {
+                assert!((r.t - want).abs() <= p.eps, "{} vs {want}", r.t);
+            }
+            // The dispatching tracer (bottom-up lines) finds the same roots.
+            let mut b2 = [NONE; 4];
+            let tr = trace_in(
+                &Ball(1.0),
+                &ray,
+                span,
+                Method::Segment,
+                Mode::Transparent,
+                &p,
+                &mut b2,
+                window,
+            );
+            assert_eq!(tr.roots, 2);
+            assert_ne!(tr.stats, leg.trace.stats, "two different bounds");
+        }
     }
 
     #[test]

@@ -231,7 +231,8 @@ pub fn trace_sphere_in<T: Real, F: Field<T>>(
     march::sphere(field, ray, span, mode, params, slots)
 }
 
-/// The outcome of one call of [`trace_sphere_resume_in`].
+/// The outcome of one call of [`trace_resume_in`] (or
+/// [`trace_sphere_resume_in`], [`trace_segment_resume_in`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Leg<T> {
     /// The trace paused between two steps (its guard said so); the state
@@ -242,7 +243,7 @@ pub struct Leg<T> {
 }
 
 /// [`trace_sphere_in`] in legs: sphere tracing from `state` (start with
-/// [`SphereState::start`](crate::march::SphereState::start)), pausing
+/// [`MarchState::start`](crate::march::MarchState::start)), pausing
 /// where `guard` says so and saving the loop into `state`. Called again
 /// with the same arguments and the saved state, it goes on exactly where
 /// it stopped: the legs of a trace give the roots, record and counters of
@@ -253,7 +254,7 @@ pub struct Leg<T> {
 ///
 /// ```
 /// use boundtrace_inclusion::{Field, FieldNum, Ray};
-/// use boundtrace_tracer::march::{SphereState, StepGuard, Unguarded};
+/// use boundtrace_tracer::march::{MarchState, StepGuard, Unguarded};
 /// use boundtrace_tracer::{Mode, Params, Root, Side, trace_sphere_in, trace_sphere_resume_in};
 ///
 /// struct Ball;
@@ -283,7 +284,7 @@ pub struct Leg<T> {
 /// let once = trace_sphere_in(&Ball, &ray, span, Mode::Transparent, &params, &mut whole, [0, 4]);
 ///
 /// let mut roots = [blank; 4];
-/// let mut state = SphereState::start(span, &params);
+/// let mut state = MarchState::start(span, &params);
 /// let mut legs = 0;
 /// let last = loop {
 ///     legs += 1;
@@ -308,7 +309,7 @@ pub fn trace_sphere_resume_in<T: Real, F: Field<T>, G: march::StepGuard>(
     params: &Params<T>,
     roots: &mut [Root<T>],
     window: [usize; 2],
-    state: &mut march::SphereState<T>,
+    state: &mut march::MarchState<T>,
     guard: &mut G,
 ) -> Leg<T> {
     if !accepts(span, params, roots.len(), window) {
@@ -324,6 +325,152 @@ pub fn trace_sphere_resume_in<T: Real, F: Field<T>, G: march::StepGuard>(
         len,
     };
     let next = march::sphere_run(field, ray, span, mode, params, slots, state, guard);
+    Leg {
+        paused: !next.stop,
+        trace: next.trace,
+    }
+}
+
+/// [`trace_in`] in legs, for every marching method: the same trace from
+/// `state` (start with [`MarchState::start`](crate::march::MarchState::start)),
+/// pausing where `guard` says so and saving the loop into `state`, as
+/// [`trace_sphere_resume_in`] does for sphere tracing. The legs of a trace
+/// give the roots, record and counters of the uninterrupted [`trace_in`],
+/// whatever the pauses.
+///
+/// The bisection methods ([`Method::Interval`], [`Method::Affine`]) and
+/// [`Method::ScalisQuadratic`] keep a stack, not a loop state: they are not
+/// resumable and give a [`Status::Unsupported`] record (never paused).
+///
+/// ```
+/// use boundtrace_inclusion::{Field, FieldNum, Ray};
+/// use boundtrace_tracer::march::{MarchState, StepGuard};
+/// use boundtrace_tracer::{Method, Mode, Params, Root, Side, trace_in, trace_resume_in};
+///
+/// struct Ball;
+/// impl Field<f64> for Ball {
+///     fn eval<N: FieldNum<f64>>(&self, p: [N; 3]) -> N {
+///         (p[0].sqr() + p[1].sqr() + p[2].sqr()).sqrt() - 0.5
+///     }
+/// }
+/// /// One step per leg.
+/// struct One(bool);
+/// impl StepGuard for One {
+///     fn before_step(&mut self, _steps: u32) -> bool {
+///         !std::mem::replace(&mut self.0, true)
+///     }
+///     fn after_step(&mut self) -> bool {
+///         true
+///     }
+/// }
+/// let ray = Ray::new([0.0, 0.1, -2.0], [0.0, 0.0, 1.0]);
+/// let (span, params, m) = ([0.0, 4.0], Params::new(), Method::QuadraticBottomUp);
+/// let blank = Root { t: 0.0, side: Side::Touch };
+/// let mut whole = [blank; 4];
+/// let once = trace_in(&Ball, &ray, span, m, Mode::Transparent, &params, &mut whole, [0, 4]);
+///
+/// let mut roots = [blank; 4];
+/// let mut state = MarchState::start(span, &params);
+/// let last = loop {
+///     let leg = trace_resume_in(
+///         &Ball, &ray, span, m, Mode::Transparent, &params, &mut roots, [0, 4],
+///         &mut state, &mut One(false),
+///     );
+///     if !leg.paused {
+///         break leg.trace;
+///     }
+/// };
+/// assert_eq!(once.roots, 2);
+/// assert_eq!((last, roots), (once, whole));
+/// ```
+#[allow(clippy::too_many_arguments)]
+pub fn trace_resume_in<T: Real, F: Field<T>, G: march::StepGuard>(
+    field: &F,
+    ray: &Ray<T>,
+    span: [T; 2],
+    method: Method,
+    mode: Mode,
+    params: &Params<T>,
+    roots: &mut [Root<T>],
+    window: [usize; 2],
+    state: &mut march::MarchState<T>,
+    guard: &mut G,
+) -> Leg<T> {
+    let resumable = !matches!(
+        method,
+        Method::Interval | Method::Affine | Method::ScalisQuadratic
+    );
+    if !resumable || !accepts(span, params, roots.len(), window) {
+        return Leg {
+            paused: false,
+            trace: unsupported_trace(span),
+        };
+    }
+    let [base, len] = window;
+    let slots = march::RootSlots {
+        buf: roots,
+        base,
+        len,
+    };
+    let next = if method == Method::Sphere {
+        march::sphere_run(field, ray, span, mode, params, slots, state, guard)
+    } else {
+        march::window_run::<march::AnyWindow, _, _, _>(
+            field, ray, span, mode, params, slots, state, guard, method,
+        )
+    };
+    Leg {
+        paused: !next.stop,
+        trace: next.trace,
+    }
+}
+
+/// [`trace_resume_in`] with [`Method::Segment`], reached without the
+/// method dispatch, so that a caller (the GPU shader's `trace_segment_*`
+/// entry point) links segment tracing alone (see [`trace_sphere_in`]),
+/// with one difference: Galin et al.'s `λ` comes from the field's Taylor
+/// lines only ([`Field::taylor_linear`]). Where a field has none on a
+/// window, the step is certified with interval enclosures (as at a kink)
+/// instead of bottom-up lines, whose code is about 30 times larger on a GPU
+/// that inlines every call (BENCHMARKS.md "GPU"). So the trace equals
+/// [`trace_resume_in`]'s with [`Method::Segment`] bit for bit wherever the
+/// Taylor lines exist (e.g. blobs with compact kernels), and is as sound
+/// elsewhere.
+#[allow(clippy::too_many_arguments)]
+pub fn trace_segment_resume_in<T: Real, F: Field<T>, G: march::StepGuard>(
+    field: &F,
+    ray: &Ray<T>,
+    span: [T; 2],
+    mode: Mode,
+    params: &Params<T>,
+    roots: &mut [Root<T>],
+    window: [usize; 2],
+    state: &mut march::MarchState<T>,
+    guard: &mut G,
+) -> Leg<T> {
+    if !accepts(span, params, roots.len(), window) {
+        return Leg {
+            paused: false,
+            trace: unsupported_trace(span),
+        };
+    }
+    let [base, len] = window;
+    let slots = march::RootSlots {
+        buf: roots,
+        base,
+        len,
+    };
+    let next = march::window_run::<march::SegmentTaylor, _, _, _>(
+        field,
+        ray,
+        span,
+        mode,
+        params,
+        slots,
+        state,
+        guard,
+        Method::Segment,
+    );
     Leg {
         paused: !next.stop,
         trace: next.trace,
