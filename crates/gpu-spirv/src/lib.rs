@@ -208,8 +208,12 @@ pub fn default_spirv_path() -> PathBuf {
 /// `…-segment-groups.spv` (for `BOUNDTRACE_GPU_SPV=dir/x.spv`:
 /// `dir/x-segment-blobs.spv`, …); `None` for blobtrees (no GPU data yet).
 pub fn segment_spirv_path(kind: SceneKind) -> Option<PathBuf> {
+    segment_path_beside(&default_spirv_path(), kind)
+}
+
+/// The segment module of `kind` beside the main module `main`.
+fn segment_path_beside(main: &Path, kind: SceneKind) -> Option<PathBuf> {
     let suffix = ["blobs", "groups"][segment_slot(kind)?];
-    let main = default_spirv_path();
     let stem = main
         .file_stem()
         .map_or_else(|| "boundtrace-gpu-shader".into(), |s| s.to_string_lossy());
@@ -1311,6 +1315,25 @@ mod tests {
         assert!(entry_points(&[]).is_empty());
         // A truncated instruction ends the scan without panicking.
         assert_eq!(entry_points(&bytes[..bytes.len() - 40]).len(), 1);
+    }
+
+    #[test]
+    fn segment_modules_sit_beside_the_main_one() {
+        let main = Path::new("/t/spirv/boundtrace-gpu-shader.spv");
+        assert_eq!(
+            segment_path_beside(main, SceneKind::Blobs).unwrap(),
+            Path::new("/t/spirv/boundtrace-gpu-shader-segment-blobs.spv")
+        );
+        assert_eq!(
+            segment_path_beside(Path::new("x/my.spv"), SceneKind::BlobGroups).unwrap(),
+            Path::new("x/my-segment-groups.spv")
+        );
+        assert_eq!(segment_path_beside(main, SceneKind::Blobtree), None);
+        // The build script's names (`${out%.spv}-segment-$kind.spv`).
+        let script = include_str!("../../../scripts/build-spirv.sh");
+        assert!(
+            script.contains("-segment-$kind.spv") && script.contains("for kind in blobs groups")
+        );
     }
 
     #[test]
