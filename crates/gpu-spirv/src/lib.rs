@@ -416,7 +416,7 @@ impl GpuTracer {
     ///
     /// # Errors
     /// As [`new`](Self::new); [`GpuError::Shader`] for bytes that are not a
-    /// valid module with the `trace_pixels` entry point.
+    /// valid module with the `trace_sphere` entry point.
     pub fn with_spirv(bytes: &[u8]) -> Result<Self, GpuError> {
         Self::with_spirv_modules(bytes, [None, None])
     }

@@ -313,10 +313,7 @@ pub fn trace_sphere_resume_in<T: Real, F: Field<T>, G: march::StepGuard>(
     guard: &mut G,
 ) -> Leg<T> {
     if !accepts(span, params, roots.len(), window) {
-        return Leg {
-            paused: false,
-            trace: unsupported_trace(span),
-        };
+        return Leg::unsupported(span);
     }
     let [base, len] = window;
     let slots = march::RootSlots {
@@ -325,9 +322,24 @@ pub fn trace_sphere_resume_in<T: Real, F: Field<T>, G: march::StepGuard>(
         len,
     };
     let next = march::sphere_run(field, ray, span, mode, params, slots, state, guard);
-    Leg {
-        paused: !next.stop,
-        trace: next.trace,
+    Leg::of(next)
+}
+
+impl<T: Real> Leg<T> {
+    /// The leg of a ray that is not traced (not paused).
+    fn unsupported(span: [T; 2]) -> Self {
+        Self {
+            paused: false,
+            trace: unsupported_trace(span),
+        }
+    }
+
+    /// The leg a marcher's run ended with.
+    fn of(next: march::Next<T>) -> Self {
+        Self {
+            paused: !next.stop,
+            trace: next.trace,
+        }
     }
 }
 
@@ -401,10 +413,7 @@ pub fn trace_resume_in<T: Real, F: Field<T>, G: march::StepGuard>(
         Method::Interval | Method::Affine | Method::ScalisQuadratic
     );
     if !resumable || !accepts(span, params, roots.len(), window) {
-        return Leg {
-            paused: false,
-            trace: unsupported_trace(span),
-        };
+        return Leg::unsupported(span);
     }
     let [base, len] = window;
     let slots = march::RootSlots {
@@ -419,10 +428,7 @@ pub fn trace_resume_in<T: Real, F: Field<T>, G: march::StepGuard>(
             field, ray, span, mode, params, slots, state, guard, method,
         )
     };
-    Leg {
-        paused: !next.stop,
-        trace: next.trace,
-    }
+    Leg::of(next)
 }
 
 /// [`trace_resume_in`] with [`Method::Segment`], reached without the
@@ -449,10 +455,7 @@ pub fn trace_segment_resume_in<T: Real, F: Field<T>, G: march::StepGuard>(
     guard: &mut G,
 ) -> Leg<T> {
     if !accepts(span, params, roots.len(), window) {
-        return Leg {
-            paused: false,
-            trace: unsupported_trace(span),
-        };
+        return Leg::unsupported(span);
     }
     let [base, len] = window;
     let slots = march::RootSlots {
@@ -471,10 +474,7 @@ pub fn trace_segment_resume_in<T: Real, F: Field<T>, G: march::StepGuard>(
         guard,
         Method::Segment,
     );
-    Leg {
-        paused: !next.stop,
-        trace: next.trace,
-    }
+    Leg::of(next)
 }
 
 /// The first root of `ray` on `span` (opaque mode), with the trace record.
