@@ -401,7 +401,19 @@ proptest! {
         let cd = (fp - fm) / (2.0 * h);
         let sd = (fp + fm - 2.0 * f0).abs();
         let gu = g[0] * u[0] + g[1] * u[1] + g[2] * u[2];
-        prop_assert!((gu - cd).abs() <= sd / (2.0 * h) + 1e-6, "{prim:?}: ∇f·u = {gu}, central difference {cd} at {p:?}");
+        // Smooth within `h`: the central difference agrees up to the second
+        // difference. A kink within `h` (as `|g|` of the gyroid) curves the
+        // branches, so that allowance can fall short; there the gradient must
+        // match one of the one-sided slopes on a much finer step instead.
+        let smooth_ok = (gu - cd).abs() <= sd / (2.0 * h) + 1e-6;
+        let h1 = 1e-8;
+        let fwd = (f(add(p, h1, u)) - f0) / h1;
+        let bwd = (f0 - f(add(p, -h1, u))) / h1;
+        let one_sided = (gu - fwd).abs().min((gu - bwd).abs());
+        prop_assert!(
+            smooth_ok || one_sided <= 1e-4 * (1.0 + gu.abs()),
+            "{prim:?}: ∇f·u = {gu}, central difference {cd}, one-sided {fwd} / {bwd} at {p:?}"
+        );
     }
 
     /// Compact operators are continuous across the boundary of `R_o`.
