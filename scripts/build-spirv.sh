@@ -10,9 +10,11 @@
 #     ${CARGO_TARGET_DIR:-target}/spirv/boundtrace-gpu-shader.spv                 (sphere tracing, probes)
 #     ${CARGO_TARGET_DIR:-target}/spirv/boundtrace-gpu-shader-segment-blobs.spv   (segment tracing, `Blobs` scenes)
 #     ${CARGO_TARGET_DIR:-target}/spirv/boundtrace-gpu-shader-segment-groups.spv  (segment tracing, `BlobGroups` scenes)
+#     …-linear-taylor-blobs.spv, …-linear-taylor-groups.spv,
+#     …-quadratic-taylor-blobs.spv, …-quadratic-taylor-groups.spv (forward Taylor methods)
 #
 # (boundtrace-gpu also honours BOUNDTRACE_GPU_SPV=/path/to/module.spv, and
-# looks for the segment modules beside it). With BOUNDTRACE_SHADER_FEATURES
+# looks for the other modules beside it). With BOUNDTRACE_SHADER_FEATURES
 # set (e.g. `sphere,trace`), only the first module is built, with those
 # features.
 set -euo pipefail
@@ -38,15 +40,18 @@ echo "==> building the SPIR-V builder (cached in $target/spirv-builder) and comp
     CARGO_TARGET_DIR="$target/spirv-builder" cargo +"$toolchain" run --release --locked -q -- \
         "$out" "$target/spirv-shader")
 
-# The segment-tracing modules, one per blob scene kind: spirv-opt runs out
-# of memory on segment tracing of both kinds in one module. Skipped when
+# The leg modules of segment tracing and the forward Taylor methods, one
+# per method and blob scene kind: spirv-opt runs out of memory on segment
+# tracing of both kinds in one module. Skipped when
 # BOUNDTRACE_SHADER_FEATURES picks the main module's features.
 if [ -z "${BOUNDTRACE_SHADER_FEATURES:-}" ]; then
-    for kind in blobs groups; do
-        echo "==> compiling the segment-tracing module for $kind"
-        (cd crates/gpu-builder &&
-            BOUNDTRACE_SHADER_FEATURES=segment-$kind CARGO_TARGET_DIR="$target/spirv-builder" \
-                cargo +"$toolchain" run --release --locked -q -- \
-                "${out%.spv}-segment-$kind.spv" "$target/spirv-shader-segment-$kind")
+    for method in segment linear-taylor quadratic-taylor; do
+        for kind in blobs groups; do
+            echo "==> compiling the $method module for $kind"
+            (cd crates/gpu-builder &&
+                BOUNDTRACE_SHADER_FEATURES=$method-$kind CARGO_TARGET_DIR="$target/spirv-builder" \
+                    cargo +"$toolchain" run --release --locked -q -- \
+                    "${out%.spv}-$method-$kind.spv" "$target/spirv-shader-$method-$kind")
+        done
     done
 fi

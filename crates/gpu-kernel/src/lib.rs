@@ -58,7 +58,8 @@ use boundtrace_tracer::camera::{Camera, Projection, ray_box_span};
 use boundtrace_tracer::march::{MarchState, StepGuard};
 use boundtrace_tracer::pixel::{PixelSetup, PixelTrace, trace_pixel_in, trace_pixel_with};
 use boundtrace_tracer::{
-    Leg, Method, Mode, Params, RayStats, Root, Status, Trace, normal, trace_segment_resume_in,
+    Leg, Method, Mode, Params, RayStats, Root, Status, Trace, normal,
+    trace_linear_taylor_resume_in, trace_quadratic_taylor_resume_in, trace_segment_resume_in,
     trace_sphere_in, trace_sphere_resume_in,
 };
 
@@ -651,6 +652,52 @@ impl LegTrace for SegmentTrace {
     }
 }
 
+/// Forward linear inclusions from Taylor bounds
+/// ([`trace_linear_taylor_resume_in`]).
+#[derive(Clone, Copy)]
+struct LinearTaylorTrace;
+
+impl LegTrace for LinearTaylorTrace {
+    const METHOD: Method = Method::LinearTaylor;
+    fn trace<F: Field<f32>>(
+        field: &F,
+        ray: &Ray<f32>,
+        span: [f32; 2],
+        mode: Mode,
+        params: &Params<f32>,
+        roots: &mut [Root<f32>],
+        window: [usize; 2],
+        state: &mut MarchState<f32>,
+        guard: &mut LimitProbe,
+    ) -> Leg<f32> {
+        trace_linear_taylor_resume_in(field, ray, span, mode, params, roots, window, state, guard)
+    }
+}
+
+/// Forward quadratic inclusions from Taylor bounds
+/// ([`trace_quadratic_taylor_resume_in`]).
+#[derive(Clone, Copy)]
+struct QuadraticTaylorTrace;
+
+impl LegTrace for QuadraticTaylorTrace {
+    const METHOD: Method = Method::QuadraticTaylor;
+    fn trace<F: Field<f32>>(
+        field: &F,
+        ray: &Ray<f32>,
+        span: [f32; 2],
+        mode: Mode,
+        params: &Params<f32>,
+        roots: &mut [Root<f32>],
+        window: [usize; 2],
+        state: &mut MarchState<f32>,
+        guard: &mut LimitProbe,
+    ) -> Leg<f32> {
+        trace_quadratic_taylor_resume_in(
+            field, ray, span, mode, params, roots, window, state, guard,
+        )
+    }
+}
+
 /// The leg kernels' [`PixelKernel`]: one leg of the pixel's trace with
 /// `M`, or its shading.
 ///
@@ -857,6 +904,75 @@ pub fn render_segment_leg_in<K: SceneKinds>(
 ) {
     render_leg::<_, K>(
         SegmentTrace,
+        c,
+        words,
+        floats,
+        blobs,
+        x,
+        y,
+        roots,
+        hits,
+        base,
+        leg,
+        out,
+    );
+}
+
+/// [`render_segment_leg_in`] for [`Method::LinearTaylor`] (forward
+/// linear inclusions from Taylor bounds, in legs:
+/// [`trace_linear_taylor_resume_in`]): the same records as
+/// [`render_pixel`]'s, bit for bit. The shader's
+/// `trace_linear_taylor_blobs` and `trace_linear_taylor_groups` entry
+/// points, one per module.
+#[allow(clippy::too_many_arguments)]
+pub fn render_linear_taylor_leg_in<K: SceneKinds>(
+    c: &Constants,
+    words: &[u32],
+    floats: &[f32],
+    blobs: &[PointBlob<f32>],
+    x: u32,
+    y: u32,
+    roots: &mut [Root<f32>],
+    hits: &mut [HitOut],
+    base: usize,
+    leg: &mut PixelLeg,
+    out: &mut PixelOut,
+) {
+    render_leg::<_, K>(
+        LinearTaylorTrace,
+        c,
+        words,
+        floats,
+        blobs,
+        x,
+        y,
+        roots,
+        hits,
+        base,
+        leg,
+        out,
+    );
+}
+
+/// [`render_linear_taylor_leg_in`] for [`Method::QuadraticTaylor`]
+/// ([`trace_quadratic_taylor_resume_in`]; the shader's
+/// `trace_quadratic_taylor_blobs` and `trace_quadratic_taylor_groups`).
+#[allow(clippy::too_many_arguments)]
+pub fn render_quadratic_taylor_leg_in<K: SceneKinds>(
+    c: &Constants,
+    words: &[u32],
+    floats: &[f32],
+    blobs: &[PointBlob<f32>],
+    x: u32,
+    y: u32,
+    roots: &mut [Root<f32>],
+    hits: &mut [HitOut],
+    base: usize,
+    leg: &mut PixelLeg,
+    out: &mut PixelOut,
+) {
+    render_leg::<_, K>(
+        QuadraticTaylorTrace,
         c,
         words,
         floats,
@@ -1149,20 +1265,25 @@ mod tests {
             &mut PixelLeg,
             &mut PixelOut,
         );
-        let kernels: [(Method, LegFn); 2] = [
+        let kernels: [(Method, LegFn); 4] = [
             (Method::Sphere, render_sphere_leg),
             (Method::Segment, render_segment_leg),
+            (
+                Method::LinearTaylor,
+                render_linear_taylor_leg_in::<AllKinds>,
+            ),
+            (
+                Method::QuadraticTaylor,
+                render_quadratic_taylor_leg_in::<AllKinds>,
+            ),
         ];
         let mut resumed = 0;
-        let mut segment_hits = 0;
-        for ((method, mode), (kernel, render_leg)) in [
-            (Method::Sphere, Mode::Opaque),
-            (Method::Sphere, Mode::Transparent),
-            (Method::Segment, Mode::Opaque),
-            (Method::Segment, Mode::Transparent),
-        ]
-        .into_iter()
-        .flat_map(|case| kernels.map(|k| (case, k)))
+        // Hits of each kernel's own method.
+        let mut method_hits = [0usize; 4];
+        for ((method, mode), (kernel, render_leg)) in kernels
+            .iter()
+            .flat_map(|&(m, _)| [(m, Mode::Opaque), (m, Mode::Transparent)])
+            .flat_map(|case| kernels.map(|k| (case, k)))
         {
             let setup = six_by_six(bounds, method, mode);
             let c = Constants::new(&setup, SceneKind::Blobs, 0.5, 4, 0);
@@ -1180,8 +1301,9 @@ mod tests {
                     } else {
                         unsupported()
                     };
-                    if method == Method::Segment && method == kernel {
-                        segment_hits += usize::from(a.roots > 0);
+                    if method == kernel {
+                        let i = kernels.iter().position(|&(m, _)| m == method).unwrap();
+                        method_hits[i] += usize::from(a.roots > 0);
                     }
                     // In one leg (the CPU never cuts a loop short).
                     let (mut rb, mut hb) = ([r; 4], [HitOut::default(); 4]);
@@ -1316,53 +1438,90 @@ mod tests {
             }
         }
         assert!(resumed > 20, "{resumed}");
-        assert!(segment_hits > 8, "{segment_hits}");
+        assert!(method_hits.iter().all(|&n| n > 8), "{method_hits:?}");
     }
 
     #[test]
     fn kind_filtered_legs_trace_their_kind_alone() {
         let (blobs, bounds) = two_blobs();
-        let setup = six_by_six(bounds, Method::Segment, Mode::Transparent);
-        let c = Constants::new(&setup, SceneKind::Blobs, 0.5, 4, 0);
         let r = Root {
             t: 0.0,
             side: Side::Touch,
         };
-        let mut hits_seen = 0;
-        for y in 0..6 {
-            for x in 0..6 {
-                let one = |kinds: u8| {
-                    let (mut rs, mut hs) = ([r; 4], [HitOut::default(); 4]);
-                    let (mut leg, mut out) = (PixelLeg::default(), PixelOut::default());
-                    let f = match kinds {
-                        0 => render_segment_leg,
-                        1 => render_segment_leg_in::<BlobsOnly>,
-                        _ => render_segment_leg_in::<GroupsOnly>,
+        type LegFn = fn(
+            &Constants,
+            &[u32],
+            &[f32],
+            &[PointBlob<f32>],
+            u32,
+            u32,
+            &mut [Root<f32>],
+            &mut [HitOut],
+            usize,
+            &mut PixelLeg,
+            &mut PixelOut,
+        );
+        // Each method's kernel for every kind, blobs only, groups only.
+        let kernels: [(Method, [LegFn; 3]); 3] = [
+            (
+                Method::Segment,
+                [
+                    render_segment_leg_in::<AllKinds>,
+                    render_segment_leg_in::<BlobsOnly>,
+                    render_segment_leg_in::<GroupsOnly>,
+                ],
+            ),
+            (
+                Method::LinearTaylor,
+                [
+                    render_linear_taylor_leg_in::<AllKinds>,
+                    render_linear_taylor_leg_in::<BlobsOnly>,
+                    render_linear_taylor_leg_in::<GroupsOnly>,
+                ],
+            ),
+            (
+                Method::QuadraticTaylor,
+                [
+                    render_quadratic_taylor_leg_in::<AllKinds>,
+                    render_quadratic_taylor_leg_in::<BlobsOnly>,
+                    render_quadratic_taylor_leg_in::<GroupsOnly>,
+                ],
+            ),
+        ];
+        for (method, fs) in kernels {
+            let setup = six_by_six(bounds, method, Mode::Transparent);
+            let c = Constants::new(&setup, SceneKind::Blobs, 0.5, 4, 0);
+            let mut hits_seen = 0;
+            for y in 0..6 {
+                for x in 0..6 {
+                    let one = |f: LegFn| {
+                        let (mut rs, mut hs) = ([r; 4], [HitOut::default(); 4]);
+                        let (mut leg, mut out) = (PixelLeg::default(), PixelOut::default());
+                        f(
+                            &c,
+                            &[],
+                            &[],
+                            &blobs,
+                            x,
+                            y,
+                            &mut rs,
+                            &mut hs,
+                            0,
+                            &mut leg,
+                            &mut out,
+                        );
+                        assert_eq!(leg.phase, PHASE_DONE);
+                        (out, hs)
                     };
-                    f(
-                        &c,
-                        &[],
-                        &[],
-                        &blobs,
-                        x,
-                        y,
-                        &mut rs,
-                        &mut hs,
-                        0,
-                        &mut leg,
-                        &mut out,
-                    );
-                    assert_eq!(leg.phase, PHASE_DONE);
-                    (out, hs)
-                };
-                let all = one(0);
-                assert_eq!(one(1), all);
-                let (other, _) = one(2);
-                assert_eq!(other.status, Status::Unsupported as u32);
-                hits_seen += usize::from(all.0.roots > 0);
+                    let all = one(fs[0]);
+                    assert_eq!(one(fs[1]), all, "{method}");
+                    let (other, _) = one(fs[2]);
+                    assert_eq!(other.status, Status::Unsupported as u32, "{method}");
+                    hits_seen += usize::from(all.0.roots > 0);
+                }
             }
+            assert!(hits_seen > 4, "{method}: {hits_seen}");
         }
-        assert!(hits_seen > 4, "{hits_seen}");
     }
 
     #[test]

@@ -13,8 +13,12 @@
 //!   inlines every call (lavapipe) compiles it;
 //! - `trace_segment_blobs` and `trace_segment_groups`: segment tracing in
 //!   resumable legs (`render_segment_leg_in`) of one scene kind each, the
-//!   same bindings, features `segment-blobs` and `segment-groups`: each in
-//!   a module of its own (`scripts/build-spirv.sh` builds all three);
+//!   same bindings, features `segment-blobs` and `segment-groups`; likewise
+//!   `trace_linear_taylor_{blobs,groups}` and
+//!   `trace_quadratic_taylor_{blobs,groups}` (forward linear and quadratic
+//!   inclusions from Taylor bounds), features `linear-taylor-blobs`, …:
+//!   each in a module of its own (`scripts/build-spirv.sh` builds all
+//!   seven);
 //! - `trace_pixels`: every GPU method ([`render_pixel`]), feature `trace`
 //!   (`BOUNDTRACE_SHADER_FEATURES=trace scripts/build-spirv.sh`): it links,
 //!   but is too large for such a driver (BENCHMARKS.md "GPU").
@@ -23,12 +27,8 @@
 use boundtrace_fields::PointBlob;
 #[cfg(feature = "trace")]
 use boundtrace_gpu_kernel::render_pixel;
-#[cfg(feature = "segment-blobs")]
-use boundtrace_gpu_kernel::BlobsOnly;
-#[cfg(feature = "segment-groups")]
-use boundtrace_gpu_kernel::GroupsOnly;
-#[cfg(any(feature = "segment-blobs", feature = "segment-groups"))]
-use boundtrace_gpu_kernel::render_segment_leg_in;
+#[allow(unused_imports)]
+use boundtrace_gpu_kernel as kernel;
 #[cfg(feature = "sphere")]
 use boundtrace_gpu_kernel::render_sphere_leg;
 use boundtrace_gpu_kernel::{Constants, HitOut, PixelLeg, PixelOut};
@@ -138,76 +138,97 @@ pub fn trace_sphere(
     );
 }
 
-/// [`trace_sphere`] for segment tracing of [`SceneKind::Blobs`] scenes
-/// (`render_segment_leg_in::<BlobsOnly>`): the same bindings, layout and
-/// legs. In a module of its own (feature `segment-blobs`).
-///
-/// [`SceneKind::Blobs`]: boundtrace_gpu_kernel::SceneKind::Blobs
-#[cfg(feature = "segment-blobs")]
-#[allow(clippy::too_many_arguments)]
-#[spirv(compute(threads(8, 8)))]
-pub fn trace_segment_blobs(
-    #[spirv(global_invocation_id)] id: UVec3,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] constants: &Constants,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] words: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] floats: &[f32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] blobs: &[PointBlob<f32>],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] pixels: &mut [PixelOut],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] hits: &mut [HitOut],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] roots: &mut [Root<f32>],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] legs: &mut [PixelLeg],
-) {
-    leg_entry(
-        id,
-        constants,
-        words,
-        floats,
-        blobs,
-        pixels,
-        hits,
-        roots,
-        legs,
-        render_segment_leg_in::<BlobsOnly>,
-    );
+/// A leg entry point like [`trace_sphere`] (the same bindings, layout and
+/// legs) for one method and scene kind, `render` its kernel function, in a
+/// module of its own (built with its feature alone): spirv-opt and drivers
+/// that inline every call run out of memory on more (BENCHMARKS.md "GPU").
+macro_rules! leg_entry_point {
+    ($(#[$doc:meta])* $feature:literal, $name:ident, $render:path) => {
+        $(#[$doc])*
+        #[cfg(feature = $feature)]
+        #[allow(clippy::too_many_arguments)]
+        #[spirv(compute(threads(8, 8)))]
+        pub fn $name(
+            #[spirv(global_invocation_id)] id: UVec3,
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] constants: &Constants,
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] words: &[u32],
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] floats: &[f32],
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] blobs: &[PointBlob<f32>],
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] pixels: &mut [PixelOut],
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] hits: &mut [HitOut],
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] roots: &mut [Root<f32>],
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] legs: &mut [PixelLeg],
+        ) {
+            leg_entry(
+                id, constants, words, floats, blobs, pixels, hits, roots, legs, $render,
+            );
+        }
+    };
 }
 
-/// [`trace_segment_blobs`] for [`SceneKind::BlobGroups`] scenes
-/// (`render_segment_leg_in::<GroupsOnly>`), in a module of its own
-/// (feature `segment-groups`).
-///
-/// [`SceneKind::BlobGroups`]: boundtrace_gpu_kernel::SceneKind::BlobGroups
-#[cfg(feature = "segment-groups")]
-#[allow(clippy::too_many_arguments)]
-#[spirv(compute(threads(8, 8)))]
-pub fn trace_segment_groups(
-    #[spirv(global_invocation_id)] id: UVec3,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] constants: &Constants,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] words: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] floats: &[f32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] blobs: &[PointBlob<f32>],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] pixels: &mut [PixelOut],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] hits: &mut [HitOut],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] roots: &mut [Root<f32>],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] legs: &mut [PixelLeg],
-) {
-    leg_entry(
-        id,
-        constants,
-        words,
-        floats,
-        blobs,
-        pixels,
-        hits,
-        roots,
-        legs,
-        render_segment_leg_in::<GroupsOnly>,
-    );
-}
+leg_entry_point!(
+    /// Segment tracing of `SceneKind::Blobs` scenes
+    /// (`render_segment_leg_in::<BlobsOnly>`), feature `segment-blobs`.
+    "segment-blobs",
+    trace_segment_blobs,
+    kernel::render_segment_leg_in::<kernel::BlobsOnly>
+);
+
+leg_entry_point!(
+    /// Segment tracing of `SceneKind::BlobGroups` scenes
+    /// (`render_segment_leg_in::<GroupsOnly>`), feature `segment-groups`.
+    "segment-groups",
+    trace_segment_groups,
+    kernel::render_segment_leg_in::<kernel::GroupsOnly>
+);
+
+leg_entry_point!(
+    /// Forward linear inclusions from Taylor bounds (`linear-taylor`) on
+    /// `SceneKind::Blobs` scenes (`render_linear_taylor_leg_in::<BlobsOnly>`),
+    /// feature `linear-taylor-blobs`.
+    "linear-taylor-blobs",
+    trace_linear_taylor_blobs,
+    kernel::render_linear_taylor_leg_in::<kernel::BlobsOnly>
+);
+
+leg_entry_point!(
+    /// `linear-taylor` on `SceneKind::BlobGroups` scenes, feature
+    /// `linear-taylor-groups`.
+    "linear-taylor-groups",
+    trace_linear_taylor_groups,
+    kernel::render_linear_taylor_leg_in::<kernel::GroupsOnly>
+);
+
+leg_entry_point!(
+    /// Forward quadratic inclusions from Taylor bounds (`quadratic-taylor`)
+    /// on `SceneKind::Blobs` scenes
+    /// (`render_quadratic_taylor_leg_in::<BlobsOnly>`), feature
+    /// `quadratic-taylor-blobs`.
+    "quadratic-taylor-blobs",
+    trace_quadratic_taylor_blobs,
+    kernel::render_quadratic_taylor_leg_in::<kernel::BlobsOnly>
+);
+
+leg_entry_point!(
+    /// `quadratic-taylor` on `SceneKind::BlobGroups` scenes, feature
+    /// `quadratic-taylor-groups`.
+    "quadratic-taylor-groups",
+    trace_quadratic_taylor_groups,
+    kernel::render_quadratic_taylor_leg_in::<kernel::GroupsOnly>
+);
 
 /// The body of the leg entry points: one leg of pixel `(id.x, id.y)` by
 /// `render` (a kernel function, called directly: a generic, not a function
 /// pointer), its leg and record written back.
-#[cfg(any(feature = "sphere", feature = "segment-blobs", feature = "segment-groups"))]
+#[cfg(any(
+    feature = "sphere",
+    feature = "segment-blobs",
+    feature = "segment-groups",
+    feature = "linear-taylor-blobs",
+    feature = "linear-taylor-groups",
+    feature = "quadratic-taylor-blobs",
+    feature = "quadratic-taylor-groups"
+))]
 #[allow(clippy::too_many_arguments)]
 fn leg_entry<R>(
     id: UVec3,

@@ -1,6 +1,8 @@
 //! GPU (SPIR-V on wgpu) vs CPU render time for a few scenes and methods:
-//! `sphere` and `segment` (the `trace_sphere` and `trace_segment_*` entry
-//! points, built by default), and `quadratic-bottom-up`,
+//! `sphere`, `segment`, `linear-taylor` and `quadratic-taylor` (the
+//! `trace_sphere`, `trace_segment_*`, `trace_linear_taylor_*` and
+//! `trace_quadratic_taylor_*` entry points, built by default), and
+//! `quadratic-bottom-up`,
 //! `quadratic-mixed` when the module has `trace_pixels`
 //! (`BOUNDTRACE_SHADER_FEATURES=trace scripts/build-spirv.sh`; see
 //! BENCHMARKS.md "GPU"). Needs a Vulkan adapter.
@@ -16,9 +18,9 @@
 //! and frame assembly included; each method's pipeline is built once
 //! before, by an 8 × 8 frame whose time is printed), and
 //! their ratio. Also compares the frames (hit/miss and step counts per
-//! pixel) and prints the dispatches the GPU frame took (sphere and segment
-//! tracing run in legs: more than one where a driver's loop limit cut rays
-//! short).
+//! pixel) and prints the dispatches the GPU frame took (the methods of
+//! the default modules run in legs: more than one where a driver's loop
+//! limit cut rays short).
 
 use boundtrace_gpu::{GpuScene, GpuTracer};
 use boundtrace_tracer::Method;
@@ -52,11 +54,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |");
     let entries = gpu.entry_points();
     let mut methods = vec![Method::Sphere];
-    if entries
-        .iter()
-        .any(|e| e.starts_with("trace_segment") || e == "trace_pixels")
-    {
-        methods.push(Method::Segment);
+    for (method, entry) in [
+        (Method::Segment, "trace_segment"),
+        (Method::LinearTaylor, "trace_linear_taylor"),
+        (Method::QuadraticTaylor, "trace_quadratic_taylor"),
+    ] {
+        if entries
+            .iter()
+            .any(|e| e.starts_with(entry) || e == "trace_pixels")
+        {
+            methods.push(method);
+        }
     }
     if entries.iter().any(|e| e == "trace_pixels") {
         methods.extend([Method::QuadraticBottomUp, Method::QuadraticMixed]);

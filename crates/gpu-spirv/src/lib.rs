@@ -5,8 +5,9 @@
 //!
 //! The shader is a thin wrapper: each invocation calls
 //! [`boundtrace_gpu_kernel::render_sphere_leg`],
-//! [`boundtrace_gpu_kernel::render_segment_leg`] or
-//! [`boundtrace_gpu_kernel::render_pixel`], which call the tracer's
+//! [`boundtrace_gpu_kernel::render_segment_leg_in`] (and its Taylor
+//! siblings) or [`boundtrace_gpu_kernel::render_pixel`], which call the
+//! tracer's
 //! [`trace_sphere_resume_in`](boundtrace_tracer::trace_sphere_resume_in) /
 //! [`trace_segment_resume_in`](boundtrace_tracer::trace_segment_resume_in) /
 //! [`trace_pixel`](boundtrace_tracer::pixel::trace_pixel) and
@@ -31,19 +32,25 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
-//! **Status** (issue 9, open): sphere and segment tracing run on the GPU
-//! and give the CPU's frame: the module's `trace_sphere` and
-//! `trace_segment_*` entry points trace each pixel in resumable legs
+//! **Status** (issue 9, open): sphere tracing, segment tracing and the
+//! forward linear and quadratic methods from Taylor bounds
+//! (`linear-taylor`, `quadratic-taylor`) run on the GPU and give the CPU's
+//! frame: the main module's `trace_sphere` and the leg modules'
+//! `trace_segment_*`, `trace_linear_taylor_*` and
+//! `trace_quadratic_taylor_*` entry points ([`leg_spirv_path`]) trace each
+//! pixel in resumable legs
 //! ([`boundtrace_gpu_kernel::render_sphere_leg`],
-//! [`boundtrace_gpu_kernel::render_segment_leg`]), and
+//! [`boundtrace_gpu_kernel::render_segment_leg_in`], …), and
 //! [`GpuTracer::render`] dispatches until every pixel is done. On
 //! lavapipe, llvmpipe stops every loop of an 8-lane group after 65,535
 //! loop iterations in all, silently; a probe loop after each step sees
 //! it, the step is undone and the pixel resumes in the next dispatch, so
 //! the limit costs dispatches, never results (CI: `tests/difftest.rs`,
-//! every pixel of both blob scenes in both modes, both methods). [`interval_probe`] and
-//! [`arith_probe`] check the driver's arithmetic against the CPU's. The
-//! forward linear and quadratic methods live in the `trace_pixels` entry point
+//! every pixel of both blob scenes in both modes, every leg method).
+//! [`interval_probe`] and [`arith_probe`] check the driver's arithmetic
+//! against the CPU's. The other methods (bottom-up and mixed forward
+//! bounds, interval, affine, `scalis-quadratic`) live in the
+//! `trace_pixels` entry point
 //! ([`render_pixel`](boundtrace_gpu_kernel::render_pixel), shader feature
 //! `trace`), which rust-gpu links but which is still far too large for a
 //! driver that inlines every call; on a module without it
@@ -94,19 +101,42 @@ const ENTRY: &str = "trace_pixels";
 /// in the module).
 const SPHERE_ENTRY: &str = "trace_sphere";
 
-/// The compute entry points that trace pixels with segment tracing, in
-/// legs like [`SPHERE_ENTRY`]: for [`SceneKind::Blobs`] and
-/// [`SceneKind::BlobGroups`] scenes, each in a module of its own
-/// ([`segment_spirv_path`]).
-const SEGMENT_ENTRIES: [&str; 2] = ["trace_segment_blobs", "trace_segment_groups"];
+/// The methods traced in legs like [`SPHERE_ENTRY`] by modules of their
+/// own, one per method and scene kind of [`LEG_KINDS`]
+/// ([`leg_spirv_path`]), with their names in the shader's features and
+/// entry points (`trace_segment_blobs`, …).
+const LEG_METHODS: [(Method, &str); 3] = [
+    (Method::Segment, "segment"),
+    (Method::LinearTaylor, "linear-taylor"),
+    (Method::QuadraticTaylor, "quadratic-taylor"),
+];
 
-/// The index of `kind` in [`SEGMENT_ENTRIES`].
-fn segment_slot(kind: SceneKind) -> Option<usize> {
-    match kind {
-        SceneKind::Blobs => Some(0),
-        SceneKind::BlobGroups => Some(1),
-        SceneKind::Blobtree => None,
-    }
+/// The scene kinds of the leg modules, with their names.
+const LEG_KINDS: [(SceneKind, &str); 2] = [
+    (SceneKind::Blobs, "blobs"),
+    (SceneKind::BlobGroups, "groups"),
+];
+
+/// How many leg modules there are.
+const LEG_MODULES: usize = LEG_METHODS.len() * LEG_KINDS.len();
+
+/// The index of the leg module of `method` on `kind`, if there is one.
+fn leg_slot(method: Method, kind: SceneKind) -> Option<usize> {
+    let m = LEG_METHODS.iter().position(|&(x, _)| x == method)?;
+    let k = LEG_KINDS.iter().position(|&(x, _)| x == kind)?;
+    Some(m * LEG_KINDS.len() + k)
+}
+
+/// The method, scene kind and name (`segment-blobs`) of leg module `slot`.
+fn leg_module(slot: usize) -> (Method, SceneKind, String) {
+    let (method, m) = LEG_METHODS[slot / LEG_KINDS.len()];
+    let (kind, k) = LEG_KINDS[slot % LEG_KINDS.len()];
+    (method, kind, format!("{m}-{k}"))
+}
+
+/// The entry point of leg module `slot` (`trace_segment_blobs`).
+fn leg_entry(slot: usize) -> String {
+    format!("trace_{}", leg_module(slot).2.replace('-', "_"))
 }
 
 /// An error of the GPU path.
@@ -201,23 +231,24 @@ pub fn default_spirv_path() -> PathBuf {
     target.join("spirv").join("boundtrace-gpu-shader.spv")
 }
 
-/// Where [`GpuTracer::new`] looks for the segment-tracing module of scenes
-/// of `kind` (the `trace_segment_blobs` / `trace_segment_groups` entry
-/// points, built by [`BUILD_COMMAND`] into modules of their own): beside
-/// [`default_spirv_path`], `…/boundtrace-gpu-shader-segment-blobs.spv` and
-/// `…-segment-groups.spv` (for `BOUNDTRACE_GPU_SPV=dir/x.spv`:
-/// `dir/x-segment-blobs.spv`, …); `None` for blobtrees (no GPU data yet).
-pub fn segment_spirv_path(kind: SceneKind) -> Option<PathBuf> {
-    segment_path_beside(&default_spirv_path(), kind)
+/// Where [`GpuTracer::new`] looks for the module that traces `method` on
+/// scenes of `kind` in legs (segment tracing and the forward Taylor
+/// methods on the blob scenes: entry points `trace_segment_blobs`,
+/// `trace_linear_taylor_groups`, …, built by [`BUILD_COMMAND`] into modules
+/// of their own): beside [`default_spirv_path`],
+/// `…/boundtrace-gpu-shader-segment-blobs.spv`,
+/// `…-linear-taylor-groups.spv`, … (for `BOUNDTRACE_GPU_SPV=dir/x.spv`:
+/// `dir/x-segment-blobs.spv`, …); `None` for other methods and kinds.
+pub fn leg_spirv_path(method: Method, kind: SceneKind) -> Option<PathBuf> {
+    leg_path_beside(&default_spirv_path(), leg_slot(method, kind)?)
 }
 
-/// The segment module of `kind` beside the main module `main`.
-fn segment_path_beside(main: &Path, kind: SceneKind) -> Option<PathBuf> {
-    let suffix = ["blobs", "groups"][segment_slot(kind)?];
+/// Leg module `slot` beside the main module `main`.
+fn leg_path_beside(main: &Path, slot: usize) -> Option<PathBuf> {
     let stem = main
         .file_stem()
         .map_or_else(|| "boundtrace-gpu-shader".into(), |s| s.to_string_lossy());
-    Some(main.with_file_name(format!("{stem}-segment-{suffix}.spv")))
+    Some(main.with_file_name(format!("{stem}-{}.spv", leg_module(slot).2)))
 }
 
 /// A scene as GPU buffers: blobtree node words and parameters, or blobs
@@ -336,17 +367,17 @@ pub struct GpuTracer {
     queue: wgpu::Queue,
     /// The module's words, for the pipelines created on first use.
     module: Vec<u8>,
-    /// The segment-tracing modules' words ([`SEGMENT_ENTRIES`]' order),
-    /// where there are some.
-    segment_modules: [Option<Vec<u8>>; 2],
+    /// The leg modules' words ([`leg_slot`]'s order), where there are
+    /// some.
+    leg_modules: [Option<Vec<u8>>; LEG_MODULES],
     /// The bind group layout shared by the tracing entry points.
     layout: wgpu::PipelineLayout,
     /// `trace_sphere`'s pipeline, created by [`GpuTracer::new`].
     sphere: wgpu::ComputePipeline,
-    /// The segment-tracing pipelines ([`SEGMENT_ENTRIES`]' order), created
-    /// on first use (a driver takes about as long as for `trace_sphere`:
-    /// only segment renders pay).
-    segment: [OnceLock<Result<wgpu::ComputePipeline, String>>; 2],
+    /// The leg modules' pipelines ([`leg_slot`]'s order), created on first
+    /// use (a driver takes about as long as for `trace_sphere`: only the
+    /// renders of that method and kind pay).
+    legs: [OnceLock<Result<wgpu::ComputePipeline, String>>; LEG_MODULES],
     /// Held while a pipeline created on first use compiles.
     compiling: std::sync::Mutex<()>,
     /// `trace_pixels`' pipeline (every method), created on first use: a
@@ -393,23 +424,22 @@ impl GpuTracer {
     /// or shader errors.
     pub fn new() -> Result<Self, GpuError> {
         let main = load_module()?;
-        // The segment modules are optional: without one, segment tracing
-        // of that scene kind is a `MethodUnavailable` error naming the
-        // build command.
-        let mut segment = [None, None];
-        for (slot, kind) in segment
-            .iter_mut()
-            .zip([SceneKind::Blobs, SceneKind::BlobGroups])
-        {
-            if let Some(path) = segment_spirv_path(kind) {
-                *slot = match load_module_at(path) {
-                    Ok(bytes) => Some(bytes),
-                    Err(GpuError::ShaderMissing { .. }) => None,
+        // The leg modules are optional: without one, its method on its
+        // scene kind is a `MethodUnavailable` error naming the build
+        // command.
+        let mut legs = Vec::new();
+        for slot in 0..LEG_MODULES {
+            let (method, kind, _) = leg_module(slot);
+            if let Some(path) = leg_path_beside(&default_spirv_path(), slot) {
+                match load_module_at(path) {
+                    Ok(bytes) => legs.push((method, kind, bytes)),
+                    Err(GpuError::ShaderMissing { .. }) => {}
                     Err(e) => return Err(e),
-                };
+                }
             }
         }
-        Self::with_spirv_modules(&main, [segment[0].as_deref(), segment[1].as_deref()])
+        let legs: Vec<_> = legs.iter().map(|(m, k, b)| (*m, *k, &b[..])).collect();
+        Self::with_spirv_modules(&main, &legs)
     }
 
     /// As [`new`](Self::new), with the module's bytes given.
@@ -418,24 +448,43 @@ impl GpuTracer {
     /// As [`new`](Self::new); [`GpuError::Shader`] for bytes that are not a
     /// valid module with the `trace_sphere` entry point.
     pub fn with_spirv(bytes: &[u8]) -> Result<Self, GpuError> {
-        Self::with_spirv_modules(bytes, [None, None])
+        Self::with_spirv_modules(bytes, &[])
     }
 
-    /// As [`with_spirv`](Self::with_spirv), with the segment-tracing
-    /// modules ([`segment_spirv_path`]) of [`SceneKind::Blobs`] and
-    /// [`SceneKind::BlobGroups`] scenes, in that order, where there are
-    /// some.
+    /// As [`with_spirv`](Self::with_spirv), with leg modules
+    /// ([`leg_spirv_path`]): `(method, kind, bytes)` for the module that
+    /// traces `method` on scenes of `kind`.
     ///
     /// # Errors
-    /// As [`with_spirv`](Self::with_spirv); [`GpuError::Shader`] for a
-    /// segment module that is not a SPIR-V module.
-    pub fn with_spirv_modules(bytes: &[u8], segment: [Option<&[u8]>; 2]) -> Result<Self, GpuError> {
+    /// As [`with_spirv`](Self::with_spirv); [`GpuError::Shader`] for a leg
+    /// module that is not a SPIR-V module, or given for a method and kind
+    /// that have none, or twice.
+    pub fn with_spirv_modules(
+        bytes: &[u8],
+        legs: &[(Method, SceneKind, &[u8])],
+    ) -> Result<Self, GpuError> {
         check_magic(bytes)?;
-        for s in segment.iter().flatten() {
-            check_magic(s)?;
+        let mut modules: [Option<Vec<u8>>; LEG_MODULES] = Default::default();
+        for &(method, kind, m) in legs {
+            let slot = leg_slot(method, kind).ok_or_else(|| {
+                GpuError::Shader(format!(
+                    "no leg module traces `{method}` on {kind:?} scenes (leg modules: {})",
+                    (0..LEG_MODULES)
+                        .map(|i| leg_module(i).2)
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ))
+            })?;
+            if modules[slot].is_some() {
+                return Err(GpuError::Shader(format!(
+                    "two leg modules for `{method}` on {kind:?} scenes"
+                )));
+            }
+            check_magic(m)?;
+            modules[slot] = Some(m.to_vec());
         }
         let mut gpu = pollster::block_on(Self::create(bytes))?;
-        gpu.segment_modules = segment.map(|m| m.map(<[u8]>::to_vec));
+        gpu.leg_modules = modules;
         Ok(gpu)
     }
 
@@ -476,10 +525,10 @@ impl GpuTracer {
             device,
             queue,
             module: bytes.to_vec(),
-            segment_modules: [None, None],
+            leg_modules: Default::default(),
             layout,
             sphere,
-            segment: [OnceLock::new(), OnceLock::new()],
+            legs: Default::default(),
             compiling: std::sync::Mutex::new(()),
             general: OnceLock::new(),
         })
@@ -487,13 +536,13 @@ impl GpuTracer {
 
     /// The names of the compute entry points of the module
     /// (`trace_sphere`, `interval_square`, `arith_ops`, and `trace_pixels`
-    /// when the shader was built with its `trace` feature) and of the
-    /// segment modules (`trace_segment_blobs`, `trace_segment_groups`, and
+    /// when the shader was built with its `trace` feature) and of the leg
+    /// modules (`trace_segment_blobs`, `trace_linear_taylor_groups`, …, and
     /// their own probes), without repeats.
     pub fn entry_points(&self) -> Vec<String> {
         let mut all = entry_points(&self.module);
         for e in self
-            .segment_modules
+            .leg_modules
             .iter()
             .flatten()
             .flat_map(|m| entry_points(m))
@@ -506,10 +555,10 @@ impl GpuTracer {
     }
 
     /// The pipeline that traces `method` on scenes of `kind`, and whether
-    /// it runs in legs: `trace_sphere` for sphere tracing, the kind's
-    /// segment entry point for segment tracing (in the main module of a
-    /// custom build, else in the kind's segment module), else
-    /// `trace_pixels`; all but the first created on first use.
+    /// it runs in legs: `trace_sphere` for sphere tracing, the leg entry
+    /// point of `method` and `kind` (in the main module of a custom build,
+    /// else in its leg module), else `trace_pixels`; all but the first
+    /// created on first use.
     fn pipeline(
         &self,
         method: Method,
@@ -521,39 +570,40 @@ impl GpuTracer {
         let unavailable = |why: String| GpuError::MethodUnavailable { method, why };
         let entries = entry_points(&self.module);
         let has = |m: &[u8], e: &str| entry_points(m).iter().any(|x| x == e);
-        let slot = segment_slot(kind);
-        if let (Method::Segment, Some(slot)) = (method, slot) {
-            let entry = SEGMENT_ENTRIES[slot];
-            let module = if has(&self.module, entry) {
+        let slot = leg_slot(method, kind);
+        if let Some(slot) = slot {
+            let entry = leg_entry(slot);
+            let module = if has(&self.module, &entry) {
                 Some(&self.module)
             } else {
-                self.segment_modules[slot]
-                    .as_ref()
-                    .filter(|m| has(m, entry))
+                self.leg_modules[slot].as_ref().filter(|m| has(m, &entry))
             };
             if let Some(module) = module {
                 return self
-                    .lazy_pipeline(&self.segment[slot], module, entry)
+                    .lazy_pipeline(&self.legs[slot], module, &entry)
                     .as_ref()
                     .map(|p| (p, true))
                     .map_err(|e| unavailable(e.clone()));
             }
         }
         if !entries.iter().any(|e| e == ENTRY) {
-            let segment = match slot.map(|i| self.segment_modules[i].is_some()) {
-                Some(false) => format!(
-                    "; segment tracing of this scene kind is in {}, which is missing \
+            let missing = match slot {
+                Some(slot) => format!(
+                    "; `{method}` on this scene kind is in {}, which is missing \
                      (`{BUILD_COMMAND}` builds it)",
-                    segment_spirv_path(kind).unwrap_or_default().display(),
+                    leg_path_beside(&default_spirv_path(), slot)
+                        .unwrap_or_default()
+                        .display(),
                 ),
-                _ => String::new(),
+                None => String::new(),
             };
+            let legs: Vec<&str> = LEG_METHODS.iter().map(|&(_, m)| m).collect();
             return Err(unavailable(format!(
-                "the module has `{SPHERE_ENTRY}` (sphere tracing) and the segment modules \
-                 `{}`/`{}` (segment tracing){segment}; every method is in `{ENTRY}`, built by \
+                "the module has `{SPHERE_ENTRY}` (sphere tracing) and the leg modules trace \
+                 {} on the blob scenes{missing}; every method is in `{ENTRY}`, built by \
                  BOUNDTRACE_SHADER_FEATURES=sphere,trace {BUILD_COMMAND}, which drivers that \
                  inline every call (lavapipe) cannot compile yet (BENCHMARKS.md \"GPU\")",
-                SEGMENT_ENTRIES[0], SEGMENT_ENTRIES[1]
+                legs.join(", ")
             )));
         }
         self.lazy_pipeline(&self.general, &self.module, ENTRY)
@@ -593,7 +643,8 @@ impl GpuTracer {
     /// # Errors
     /// Invalid settings ([`GpuError::Render`]); more than [`MAX_GPU_ROOTS`]
     /// roots per pixel in transparent mode; [`GpuError::MethodUnavailable`]
-    /// for a method other than [`Method::Sphere`] and [`Method::Segment`]
+    /// for a method other than [`Method::Sphere`] and the leg modules'
+    /// ([`leg_spirv_path`]) on their scene kinds
     /// when the module lacks the `trace_pixels` entry point, or when the
     /// driver cannot compile the method's entry point; device errors.
     pub fn render(
@@ -606,10 +657,10 @@ impl GpuTracer {
             .map(|(frame, _)| frame)
     }
 
-    /// [`render`](Self::render), sphere or segment tracing at most
+    /// [`render`](Self::render), the methods that run in legs at most
     /// `leg_steps` steps per pixel and dispatch (`0`: no limit), with the
     /// number of dispatches the frame took: one for the `trace_pixels`
-    /// methods; for sphere and segment tracing one per leg (one on a driver without a loop limit
+    /// methods; for the others one per leg (one on a driver without a loop limit
     /// when `leg_steps` is `0`; on lavapipe as many as its loop limit
     /// needs). The frame is the same whatever the legs. Short dispatches
     /// keep a GPU watchdog quiet on heavy frames, and show that resumed
@@ -768,7 +819,7 @@ impl GpuTracer {
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(GpuError::Dispatch(error_chain(&e)));
         }
-        // Sphere and segment tracing run in legs: dispatch until every
+        // The leg methods run in legs: dispatch until every
         // pixel is done.
         let mut dispatches = 0u32;
         let mut progress = None;
@@ -1318,22 +1369,46 @@ mod tests {
     }
 
     #[test]
-    fn segment_modules_sit_beside_the_main_one() {
+    fn leg_modules_sit_beside_the_main_one() {
         let main = Path::new("/t/spirv/boundtrace-gpu-shader.spv");
+        let path = |m, k| leg_path_beside(main, leg_slot(m, k).unwrap()).unwrap();
         assert_eq!(
-            segment_path_beside(main, SceneKind::Blobs).unwrap(),
+            path(Method::Segment, SceneKind::Blobs),
             Path::new("/t/spirv/boundtrace-gpu-shader-segment-blobs.spv")
         );
         assert_eq!(
-            segment_path_beside(Path::new("x/my.spv"), SceneKind::BlobGroups).unwrap(),
-            Path::new("x/my-segment-groups.spv")
+            path(Method::QuadraticTaylor, SceneKind::BlobGroups),
+            Path::new("/t/spirv/boundtrace-gpu-shader-quadratic-taylor-groups.spv")
         );
-        assert_eq!(segment_path_beside(main, SceneKind::Blobtree), None);
-        // The build script's names (`${out%.spv}-segment-$kind.spv`).
+        let slot = leg_slot(Method::LinearTaylor, SceneKind::BlobGroups).unwrap();
+        assert_eq!(
+            leg_path_beside(Path::new("x/my.spv"), slot).unwrap(),
+            Path::new("x/my-linear-taylor-groups.spv")
+        );
+        assert_eq!(leg_entry(slot), "trace_linear_taylor_groups");
+        assert_eq!(leg_slot(Method::Segment, SceneKind::Blobtree), None);
+        assert_eq!(leg_slot(Method::LinearMixed, SceneKind::Blobs), None);
+        // Every slot is one method and kind.
+        for slot in 0..LEG_MODULES {
+            let (m, k, _) = leg_module(slot);
+            assert_eq!(leg_slot(m, k), Some(slot));
+        }
+        // The build script's names (`${out%.spv}-$method-$kind.spv`), and
+        // the shader's features and entry points.
         let script = include_str!("../../../scripts/build-spirv.sh");
-        assert!(
-            script.contains("-segment-$kind.spv") && script.contains("for kind in blobs groups")
-        );
+        assert!(script.contains("\"${out%.spv}-$method-$kind.spv\""));
+        assert!(script.contains("for method in segment linear-taylor quadratic-taylor; do"));
+        assert!(script.contains("for kind in blobs groups; do"));
+        let shader = include_str!("../../gpu-shader/src/lib.rs");
+        let features = include_str!("../../gpu-shader/Cargo.toml");
+        for slot in 0..LEG_MODULES {
+            let (_, _, name) = leg_module(slot);
+            assert!(features.contains(&format!("\n{name} = []")), "{name}");
+            assert!(
+                shader.contains(&format!("\"{name}\",\n    {},", leg_entry(slot))),
+                "{name}"
+            );
+        }
     }
 
     #[test]

@@ -6,9 +6,11 @@
 //! counts identical on ≥ 99 % of pixels, and the trace status identical on
 //! ≥ 99.9 %.
 //!
-//! Sphere and segment tracing (the module's `trace_sphere` and
-//! `trace_segment_*` entry points) run in CI on lavapipe, every pixel
-//! compared. The other methods need the `trace_pixels` entry point (the
+//! Sphere tracing, segment tracing and the forward Taylor methods (the
+//! module's `trace_sphere` and the leg modules' `trace_segment_*`,
+//! `trace_linear_taylor_*` and `trace_quadratic_taylor_*` entry points)
+//! run in CI on lavapipe, every pixel compared. The other methods (bottom-up
+//! and mixed forward bounds) need the `trace_pixels` entry point (the
 //! shader's `trace` feature: `BOUNDTRACE_SHADER_FEATURES=trace
 //! scripts/build-spirv.sh`), which links but is too large for a driver
 //! that inlines every call (lavapipe: BENCHMARKS.md "GPU"); their tests are
@@ -193,7 +195,24 @@ fn segment_matches_the_cpu_in_both_modes() {
     run(Mode::Transparent, &[Method::Segment], &SCENES);
 }
 
-/// Resumption on the GPU: sphere and segment tracing in legs of at most 7
+/// Forward linear inclusions from Taylor bounds (the leg modules'
+/// `trace_linear_taylor_*` entry points) against the CPU on every pixel of
+/// both scenes, opaque and transparent, with the thresholds.
+#[test]
+fn linear_taylor_matches_the_cpu_in_both_modes() {
+    run(Mode::Opaque, &[Method::LinearTaylor], &SCENES);
+    run(Mode::Transparent, &[Method::LinearTaylor], &SCENES);
+}
+
+/// [`linear_taylor_matches_the_cpu_in_both_modes`] for forward quadratic
+/// inclusions (`trace_quadratic_taylor_*`).
+#[test]
+fn quadratic_taylor_matches_the_cpu_in_both_modes() {
+    run(Mode::Opaque, &[Method::QuadraticTaylor], &SCENES);
+    run(Mode::Transparent, &[Method::QuadraticTaylor], &SCENES);
+}
+
+/// Resumption on the GPU: every leg method in legs of at most 7
 /// steps per dispatch give the frames of unlimited legs, bit for bit
 /// (records, roots and normals), in both modes.
 #[test]
@@ -204,9 +223,14 @@ fn short_legs_match_unlimited_legs() {
         let scene = Scene::<f32>::build(name, DEFAULT_SEED).unwrap();
         let data = GpuScene::from_scene(&scene).unwrap();
         let camera = Camera::framing(scene.bounds(), [0.3, -0.4, -1.0], 40.0, 1.0).unwrap();
-        for (method, mode) in [Method::Sphere, Method::Segment]
-            .into_iter()
-            .flat_map(|m| [(m, Mode::Opaque), (m, Mode::Transparent)])
+        for (method, mode) in [
+            Method::Sphere,
+            Method::Segment,
+            Method::LinearTaylor,
+            Method::QuadraticTaylor,
+        ]
+        .into_iter()
+        .flat_map(|m| [(m, Mode::Opaque), (m, Mode::Transparent)])
         {
             let settings = RenderSettings::new(16, 16, method)
                 .unwrap()

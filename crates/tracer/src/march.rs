@@ -697,6 +697,32 @@ impl WindowBounds for SegmentTaylor {
     }
 }
 
+/// [`Method::LinearTaylor`] (`QUADRATIC = false`) or
+/// [`Method::QuadraticTaylor`] (whatever the method given): the Taylor
+/// bound alone, as [`window_bound`] builds it for those methods, so that a
+/// caller links neither the bottom-up bounds nor the other degree
+/// (BENCHMARKS.md "GPU").
+pub(crate) struct TaylorWindow<const QUADRATIC: bool>;
+
+impl<const QUADRATIC: bool> WindowBounds for TaylorWindow<QUADRATIC> {
+    fn bound<T: Real, F: Field<T>>(
+        _method: Method,
+        field: &F,
+        ray: &Ray<T>,
+        t: T,
+        e: T,
+        stats: &mut RayStats,
+    ) -> StepBound<T> {
+        // One bound evaluation, as `by_kind` counts a Taylor bound.
+        stats.bound_evals += 1;
+        if QUADRATIC {
+            StepBound::from_quadratic_or_unsupported(field.taylor_quadratic(ray, t, e), e - t)
+        } else {
+            StepBound::from_linear_or_unsupported(field.taylor_linear(ray, t, e), e - t)
+        }
+    }
+}
+
 /// The window marcher (forward-inclusion paper Alg. 1) from `st`, under
 /// `guard`: `stop` with the final record, or paused (`!stop`, `trace` the
 /// counts so far) with `st` where to resume.
@@ -1402,7 +1428,10 @@ mod tests {
 
     #[test]
     fn every_marcher_in_legs_matches_one_trace() {
-        use crate::trace::{trace_in, trace_resume_in, trace_segment_resume_in};
+        use crate::trace::{
+            trace_in, trace_linear_taylor_resume_in, trace_quadratic_taylor_resume_in,
+            trace_resume_in, trace_segment_resume_in,
+        };
         use boundtrace_fields::{Blobs, Kernel, PointBlob};
         // Overlapping compact blobs: Taylor bounds exist, so every marcher
         // runs; several crossings per ray in transparent mode.
@@ -1446,16 +1475,27 @@ mod tests {
                                 undo,
                                 calls: &mut calls,
                             };
-                            let leg = if m == Method::Segment && every == 2 {
-                                trace_segment_resume_in(
+                            // The single-method functions (the GPU's) on
+                            // every other leg: they resume each other's
+                            // legs and the dispatching one's.
+                            let one = legs % 2 == 0;
+                            let leg = match m {
+                                Method::Segment if one => trace_segment_resume_in(
                                     &blobs, &ray, span, mode, &p, &mut buf, window, &mut st,
                                     &mut guard,
-                                )
-                            } else {
-                                trace_resume_in(
+                                ),
+                                Method::LinearTaylor if one => trace_linear_taylor_resume_in(
+                                    &blobs, &ray, span, mode, &p, &mut buf, window, &mut st,
+                                    &mut guard,
+                                ),
+                                Method::QuadraticTaylor if one => trace_quadratic_taylor_resume_in(
+                                    &blobs, &ray, span, mode, &p, &mut buf, window, &mut st,
+                                    &mut guard,
+                                ),
+                                _ => trace_resume_in(
                                     &blobs, &ray, span, m, mode, &p, &mut buf, window, &mut st,
                                     &mut guard,
-                                )
+                                ),
                             };
                             if !leg.paused {
                                 break leg.trace;
@@ -1551,6 +1591,32 @@ mod tests {
                 &mut buf,
             );
             assert_eq!(tr.status, Status::Unsupported, "{m}");
+        }
+        // So are the single-method Taylor marchers.
+        for quadratic in [false, true] {
+            let mut st = MarchState::start([0.0, 6.0], &p);
+            let resume = if quadratic {
+                crate::trace::trace_quadratic_taylor_resume_in
+            } else {
+                crate::trace::trace_linear_taylor_resume_in
+            };
+            let leg = resume(
+                &Parabola(1.0),
+                &ray,
+                [0.0, 6.0],
+                Mode::Opaque,
+                &p,
+                &mut buf,
+                [0, 2],
+                &mut st,
+                &mut Unguarded,
+            );
+            assert!(!leg.paused);
+            assert_eq!(
+                leg.trace.status,
+                Status::Unsupported,
+                "quadratic {quadratic}"
+            );
         }
     }
 

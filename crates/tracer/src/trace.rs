@@ -454,6 +454,96 @@ pub fn trace_segment_resume_in<T: Real, F: Field<T>, G: march::StepGuard>(
     state: &mut march::MarchState<T>,
     guard: &mut G,
 ) -> Leg<T> {
+    window_resume_in::<march::SegmentTaylor, _, _, _>(
+        field,
+        ray,
+        span,
+        Method::Segment,
+        mode,
+        params,
+        roots,
+        window,
+        state,
+        guard,
+    )
+}
+
+/// [`trace_resume_in`] with [`Method::LinearTaylor`], reached without the
+/// method dispatch, so that a caller (the GPU shader's
+/// `trace_linear_taylor_*` entry points) links the Taylor linear bound
+/// alone (see [`trace_segment_resume_in`]). Equal to [`trace_resume_in`]'s
+/// trace bit for bit; [`Status::Unsupported`] where the field has no
+/// Taylor bound, as there.
+#[allow(clippy::too_many_arguments)]
+pub fn trace_linear_taylor_resume_in<T: Real, F: Field<T>, G: march::StepGuard>(
+    field: &F,
+    ray: &Ray<T>,
+    span: [T; 2],
+    mode: Mode,
+    params: &Params<T>,
+    roots: &mut [Root<T>],
+    window: [usize; 2],
+    state: &mut march::MarchState<T>,
+    guard: &mut G,
+) -> Leg<T> {
+    window_resume_in::<march::TaylorWindow<false>, _, _, _>(
+        field,
+        ray,
+        span,
+        Method::LinearTaylor,
+        mode,
+        params,
+        roots,
+        window,
+        state,
+        guard,
+    )
+}
+
+/// [`trace_linear_taylor_resume_in`] with [`Method::QuadraticTaylor`]
+/// (the Taylor quadratic bound alone; the shader's
+/// `trace_quadratic_taylor_*` entry points).
+#[allow(clippy::too_many_arguments)]
+pub fn trace_quadratic_taylor_resume_in<T: Real, F: Field<T>, G: march::StepGuard>(
+    field: &F,
+    ray: &Ray<T>,
+    span: [T; 2],
+    mode: Mode,
+    params: &Params<T>,
+    roots: &mut [Root<T>],
+    window: [usize; 2],
+    state: &mut march::MarchState<T>,
+    guard: &mut G,
+) -> Leg<T> {
+    window_resume_in::<march::TaylorWindow<true>, _, _, _>(
+        field,
+        ray,
+        span,
+        Method::QuadraticTaylor,
+        mode,
+        params,
+        roots,
+        window,
+        state,
+        guard,
+    )
+}
+
+/// One leg of the window marcher with the bounds `B` (the body of the
+/// single-method resume functions).
+#[allow(clippy::too_many_arguments)]
+fn window_resume_in<B: march::WindowBounds, T: Real, F: Field<T>, G: march::StepGuard>(
+    field: &F,
+    ray: &Ray<T>,
+    span: [T; 2],
+    method: Method,
+    mode: Mode,
+    params: &Params<T>,
+    roots: &mut [Root<T>],
+    window: [usize; 2],
+    state: &mut march::MarchState<T>,
+    guard: &mut G,
+) -> Leg<T> {
     if !accepts(span, params, roots.len(), window) {
         return Leg::unsupported(span);
     }
@@ -463,16 +553,8 @@ pub fn trace_segment_resume_in<T: Real, F: Field<T>, G: march::StepGuard>(
         base,
         len,
     };
-    let next = march::window_run::<march::SegmentTaylor, _, _, _>(
-        field,
-        ray,
-        span,
-        mode,
-        params,
-        slots,
-        state,
-        guard,
-        Method::Segment,
+    let next = march::window_run::<B, _, _, _>(
+        field, ray, span, mode, params, slots, state, guard, method,
     );
     Leg::of(next)
 }
