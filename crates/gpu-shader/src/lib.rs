@@ -8,6 +8,8 @@
 //!   on the GPU), always built;
 //! - `arith_ops`: the arithmetic probe (`÷ × + −` as the driver computes
 //!   them), always built;
+//! - `outward_ops`: the outward-rounding probe (`ia-core`'s quotient and
+//!   square-root bounds on the GPU), always built;
 //! - `trace_sphere`: sphere tracing in resumable legs
 //!   (`render_sphere_leg`), feature `sphere` (default): a driver that
 //!   inlines every call (lavapipe) compiles it;
@@ -32,7 +34,7 @@ use boundtrace_gpu_kernel as kernel;
 #[cfg(feature = "sphere")]
 use boundtrace_gpu_kernel::render_sphere_leg;
 use boundtrace_gpu_kernel::{Constants, HitOut, PixelLeg, PixelOut};
-use boundtrace_ia_core::Interval;
+use boundtrace_ia_core::{Interval, round};
 use boundtrace_tracer::Root;
 use spirv_std::glam::UVec3;
 use spirv_std::spirv;
@@ -67,6 +69,26 @@ pub fn arith_ops(
         data[i + 1] = a * b;
         data[i + 2] = a + b;
         data[i + 3] = a - b;
+    }
+}
+
+/// Outward-rounding probe: for each `[a, b, _, _]` in `data`, writes
+/// `[div_down(a, b), div_up(a, b), sqrt_down(|a|), sqrt_up(|a|)]`, the
+/// `ia-core` bounds (`round`) that the interval code builds quotients and
+/// square roots from, as compiled to SPIR-V, for the host to check that
+/// they enclose the exact results.
+#[spirv(compute(threads(64)))]
+pub fn outward_ops(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] data: &mut [f32],
+) {
+    let i = id.x as usize * 4;
+    if i + 3 < data.len() {
+        let (a, b) = (data[i], data[i + 1]);
+        data[i] = round::div_down(a, b);
+        data[i + 1] = round::div_up(a, b);
+        data[i + 2] = round::sqrt_down(a.abs());
+        data[i + 3] = round::sqrt_up(a.abs());
     }
 }
 

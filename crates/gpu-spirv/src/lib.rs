@@ -520,6 +520,7 @@ impl GpuTracer {
         let sphere = tracing_pipeline(&device, &layout, bytes, SPHERE_ENTRY)
             .await
             .map_err(GpuError::Shader)?;
+        release_freed_memory();
         Ok(Self {
             adapter: info,
             device,
@@ -535,7 +536,8 @@ impl GpuTracer {
     }
 
     /// The names of the compute entry points of the module
-    /// (`trace_sphere`, `interval_square`, `arith_ops`, and `trace_pixels`
+    /// (`trace_sphere`, `interval_square`, `arith_ops`, `outward_ops`, and
+    /// `trace_pixels`
     /// when the shader was built with its `trace` feature) and of the leg
     /// modules (`trace_segment_blobs`, `trace_linear_taylor_groups`, …, and
     /// their own probes), without repeats.
@@ -626,7 +628,9 @@ impl GpuTracer {
                 .compiling
                 .lock()
                 .unwrap_or_else(std::sync::PoisonError::into_inner);
-            pollster::block_on(tracing_pipeline(&self.device, &self.layout, module, entry))
+            let p = pollster::block_on(tracing_pipeline(&self.device, &self.layout, module, entry));
+            release_freed_memory();
+            p
         })
     }
 
@@ -918,6 +922,26 @@ async fn tracing_pipeline(
     }
 }
 
+/// Hands the memory the allocator holds freed back to the system: a driver
+/// that compiles a large pipeline on the CPU (lavapipe) frees gigabytes
+/// that glibc keeps in its arenas otherwise, so that each further
+/// pipeline adds to the peak.
+fn release_freed_memory() {
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    #[allow(unsafe_code)]
+    {
+        unsafe extern "C" {
+            /// glibc's `malloc_trim` (malloc.h).
+            fn malloc_trim(pad: usize) -> i32;
+        }
+        // SAFETY: `malloc_trim` only returns free heap pages to the
+        // system; it is thread-safe and has no preconditions.
+        unsafe {
+            malloc_trim(0);
+        }
+    }
+}
+
 /// The names of a SPIR-V module's entry points (`OpEntryPoint`), in
 /// order; empty for words that are not a module.
 fn entry_points(bytes: &[u8]) -> Vec<String> {
@@ -1123,8 +1147,31 @@ pub fn interval_probe(xs: &[f32]) -> Result<(Vec<f32>, wgpu::AdapterInfo), GpuEr
 /// # Errors
 /// As [`interval_probe`].
 pub fn arith_probe(pairs: &[[f32; 2]]) -> Result<(Vec<[f32; 4]>, wgpu::AdapterInfo), GpuError> {
+    pair_probe("arith_ops", pairs)
+}
+
+/// Runs the module's `outward_ops` entry point on `pairs`: `[div_down(a,
+/// b), div_up(a, b), sqrt_down(|a|), sqrt_up(|a|)]` for each `[a, b]`,
+/// `ia-core`'s outward-rounded quotient and square-root bounds
+/// (`boundtrace_ia_core::round`) as the module computes them on the
+/// driver, with the adapter used. Every interval quotient and square root
+/// on the GPU is built from these; `tests/probe.rs` checks that they
+/// enclose the exact results.
+///
+/// # Errors
+/// As [`interval_probe`].
+pub fn outward_probe(pairs: &[[f32; 2]]) -> Result<(Vec<[f32; 4]>, wgpu::AdapterInfo), GpuError> {
+    pair_probe("outward_ops", pairs)
+}
+
+/// Runs a probe entry point that maps each `[a, b, _, _]` of its buffer to
+/// four floats.
+fn pair_probe(
+    entry: &str,
+    pairs: &[[f32; 2]],
+) -> Result<(Vec<[f32; 4]>, wgpu::AdapterInfo), GpuError> {
     let data: Vec<f32> = pairs.iter().flat_map(|&[a, b]| [a, b, 0.0, 0.0]).collect();
-    let (words, info) = probe("arith_ops", &data, pairs.len() as u32)?;
+    let (words, info) = probe(entry, &data, pairs.len() as u32)?;
     let out = words
         .chunks_exact(4)
         .map(|w| [0, 1, 2, 3].map(|k| f32::from_bits(w[k])))

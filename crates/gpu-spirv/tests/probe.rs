@@ -4,8 +4,8 @@
 //! adapter; with `CI` set (`true`/`1`) their absence FAILS the test, else it
 //! is skipped loudly.
 
-use boundtrace_gpu::{GpuError, arith_probe, interval_probe};
-use boundtrace_ia_core::Interval;
+use boundtrace_gpu::{GpuError, arith_probe, interval_probe, outward_probe};
+use boundtrace_ia_core::{Interval, round};
 
 /// A probe's result; `None` (the test is skipped, loudly) without an
 /// adapter or module, which FAILS instead when `CI` is set.
@@ -56,10 +56,10 @@ fn interval_square_matches_the_cpu_bit_for_bit() {
 /// requires them correctly rounded); `÷` may be off by Vulkan's allowed
 /// 2.5 ulp, which `ia-core` widens quotients for on SPIR-V (3 steps): the
 /// test checks that bound and prints how often the driver differs.
-#[test]
-fn arithmetic_is_within_vulkan_precision() {
-    // A small deterministic generator: mantissas and exponents spread
-    // over 2^-60 … 2^60, both signs.
+/// `n` pairs from a small deterministic generator: mantissas and exponents
+/// spread over 2^-60 … 2^60, both signs (no subnormal sums, products or
+/// quotients).
+fn spread_pairs(n: usize) -> Vec<[f32; 2]> {
     let mut seed = 0x9e37_79b9_7f4a_7c15u64;
     let mut next = || {
         seed ^= seed << 13;
@@ -74,7 +74,12 @@ fn arithmetic_is_within_vulkan_precision() {
         let s = if r & 1 == 0 { 1.0 } else { -1.0 };
         s * m * 2f32.powi(e)
     };
-    let pairs: Vec<[f32; 2]> = (0..20_000).map(|_| [float(), float()]).collect();
+    (0..n).map(|_| [float(), float()]).collect()
+}
+
+#[test]
+fn arithmetic_is_within_vulkan_precision() {
+    let pairs = spread_pairs(20_000);
     let Some((gpu, info)) = ran(arith_probe(&pairs)) else {
         return;
     };
@@ -114,4 +119,94 @@ fn arithmetic_is_within_vulkan_precision() {
         "×, + and − must be correctly rounded"
     );
     assert!(worst[0] <= 3, "÷ beyond ia-core's SPIR-V margin of 3 steps");
+}
+
+/// Why `[lo, hi]` does not enclose `a / b` (`b ≠ 0`) and `[rlo, rhi]` does
+/// not enclose `√|a|`, if so. Exact in `f64`: a product of two `f32`s
+/// has at most 48 significant bits.
+fn outward_failure(a: f32, b: f32, [lo, hi, rlo, rhi]: [f32; 4]) -> Option<String> {
+    let (a, b) = (f64::from(a), f64::from(b));
+    let (lo, hi, rlo, rhi) = (f64::from(lo), f64::from(hi), f64::from(rlo), f64::from(rhi));
+    // lo ≤ a / b ≤ hi ⇔ lo · b ≤ a ≤ hi · b for b > 0 (reversed for b < 0);
+    // an infinite end encloses everything on its side.
+    let below = |q: f64| q == f64::NEG_INFINITY || if b > 0.0 { q * b <= a } else { q * b >= a };
+    let above = |q: f64| q == f64::INFINITY || if b > 0.0 { q * b >= a } else { q * b <= a };
+    let x = a.abs();
+    if lo.is_nan() || hi.is_nan() || !(lo <= hi) || !below(lo) || !above(hi) {
+        return Some(format!("a / b = {a:e} / {b:e} not in [{lo:e}, {hi:e}]"));
+    }
+    if !(0.0 <= rlo && rlo <= rhi && rlo * rlo <= x && (rhi == f64::INFINITY || rhi * rhi >= x)) {
+        return Some(format!("√{x:e} not in [{rlo:e}, {rhi:e}]"));
+    }
+    None
+}
+
+/// `ia-core`'s outward-rounded quotient and square-root bounds compiled to
+/// SPIR-V (`outward_ops`: every interval `÷` and `√` of the GPU tracer is
+/// built from them) enclose the exact results on 20,000 spread pairs and
+/// edge cases (zeros, infinities, overflowing and perfect quotients), and
+/// equal the CPU's bounds bit for bit. The exact check runs on the CPU's
+/// bounds too, so a checker that accepts nothing would fail.
+#[test]
+fn outward_bounds_enclose_exact_quotients_and_roots() {
+    let mut pairs = spread_pairs(20_000);
+    pairs.extend([
+        [1.0, 3.0],
+        [-1.0, 3.0],
+        [6.0, -3.0],
+        [0.0, 5.0],
+        [-0.0, -5.0],
+        [7.0, f32::INFINITY],
+        [-7.0, f32::NEG_INFINITY],
+        [3.0e38, 1.0e-3],
+        [-3.0e38, 1.0e-3],
+        [f32::MAX, 0.5],
+        [1.0, f32::MAX],
+        [2.0, 1.0],
+        [4.0, 2.0],
+        [0.1, 0.1],
+        [16_777_215.0, 16_777_213.0],
+    ]);
+    let Some((gpu, info)) = ran(outward_probe(&pairs)) else {
+        return;
+    };
+    let mut bad = Vec::new();
+    for (&[a, b], g) in pairs.iter().zip(&gpu) {
+        let cpu = [
+            round::div_down(a, b),
+            round::div_up(a, b),
+            round::sqrt_down(a.abs()),
+            round::sqrt_up(a.abs()),
+        ];
+        if let Some(why) = outward_failure(a, b, cpu) {
+            panic!("the CPU's bounds fail the check: {why}");
+        }
+        if let Some(why) = outward_failure(a, b, *g) {
+            bad.push(format!("GPU: {why}"));
+        } else if cpu.map(f32::to_bits) != g.map(f32::to_bits) {
+            bad.push(format!("[{a:e}, {b:e}]: GPU {g:?}, CPU {cpu:?}"));
+        }
+    }
+    eprintln!(
+        "{} ({:?}): {} pairs, {} wrong",
+        info.name,
+        info.device_type,
+        pairs.len(),
+        bad.len()
+    );
+    assert!(bad.is_empty(), "{}", bad.join("\n"));
+}
+
+/// The checker of [`outward_bounds_enclose_exact_quotients_and_roots`]
+/// rejects bounds one float too narrow (so it can fail).
+#[test]
+fn outward_check_rejects_narrow_bounds() {
+    let (a, b) = (2.0f32, 3.0f32);
+    // Rounded to nearest: each on one side of 2/3 and √2.
+    let (q, r) = (a / b, a.sqrt());
+    assert!(outward_failure(a, b, [q, q, r, r]).is_some());
+    let ok = [q.next_down(), q.next_up(), r.next_down(), r.next_up()];
+    assert_eq!(outward_failure(a, b, ok), None);
+    assert!(outward_failure(a, b, [ok[0], ok[1], r.next_up(), r.next_up()]).is_some());
+    assert!(outward_failure(-a, b, ok).is_some());
 }
