@@ -132,7 +132,7 @@ fn outward_failure(a: f32, b: f32, [lo, hi, rlo, rhi]: [f32; 4]) -> Option<Strin
     let below = |q: f64| q == f64::NEG_INFINITY || if b > 0.0 { q * b <= a } else { q * b >= a };
     let above = |q: f64| q == f64::INFINITY || if b > 0.0 { q * b >= a } else { q * b <= a };
     let x = a.abs();
-    if lo.is_nan() || hi.is_nan() || !(lo <= hi) || !below(lo) || !above(hi) {
+    if lo.is_nan() || hi.is_nan() || lo > hi || !below(lo) || !above(hi) {
         return Some(format!("a / b = {a:e} / {b:e} not in [{lo:e}, {hi:e}]"));
     }
     if !(0.0 <= rlo && rlo <= rhi && rlo * rlo <= x && (rhi == f64::INFINITY || rhi * rhi >= x)) {
