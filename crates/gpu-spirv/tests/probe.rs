@@ -121,7 +121,7 @@ fn arithmetic_is_within_vulkan_precision() {
     assert!(worst[0] <= 3, "÷ beyond ia-core's SPIR-V margin of 3 steps");
 }
 
-/// Why `[lo, hi]` does not enclose `a / b` (`b ≠ 0`) and `[rlo, rhi]` does
+/// Why `[lo, hi]` does not enclose `a / b` (`b ≠ 0`, `a` finite) and `[rlo, rhi]` does
 /// not enclose `√|a|`, if so. Exact in `f64`: a product of two `f32`s
 /// has at most 48 significant bits.
 fn outward_failure(a: f32, b: f32, [lo, hi, rlo, rhi]: [f32; 4]) -> Option<String> {
@@ -132,7 +132,13 @@ fn outward_failure(a: f32, b: f32, [lo, hi, rlo, rhi]: [f32; 4]) -> Option<Strin
     let below = |q: f64| q == f64::NEG_INFINITY || if b > 0.0 { q * b <= a } else { q * b >= a };
     let above = |q: f64| q == f64::INFINITY || if b > 0.0 { q * b >= a } else { q * b <= a };
     let x = a.abs();
-    if lo.is_nan() || hi.is_nan() || lo > hi || !below(lo) || !above(hi) {
+    // A finite `a` over an infinite `b`: exactly zero.
+    let encloses = if b.is_infinite() {
+        lo <= 0.0 && 0.0 <= hi
+    } else {
+        below(lo) && above(hi)
+    };
+    if lo.is_nan() || hi.is_nan() || lo > hi || !encloses {
         return Some(format!("a / b = {a:e} / {b:e} not in [{lo:e}, {hi:e}]"));
     }
     if !(0.0 <= rlo && rlo <= rhi && rlo * rlo <= x && (rhi == f64::INFINITY || rhi * rhi >= x)) {
