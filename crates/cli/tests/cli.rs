@@ -401,6 +401,9 @@ fn homothetic_skeleton_renders_and_measures() {
     assert_fails(&o, 1, &["SCALIS"]);
 }
 
+/// Without `--features gpu`, `--backend gpu` is a clear error with nothing
+/// written (with it, the default method renders: next test).
+#[cfg(not(feature = "gpu"))]
 #[test]
 fn gpu_backend_without_gpu_is_a_clear_error() {
     let o = render_bad(GOOD, &["--backend", "gpu"]);
@@ -408,10 +411,12 @@ fn gpu_backend_without_gpu_is_a_clear_error() {
 }
 
 /// With `--features gpu` (CI: `cargo test -p boundtrace-cli --features gpu
-/// --test cli gpu_backend`, on lavapipe): sphere tracing renders a PNG on
-/// the GPU (the shader's `trace_sphere` entry point; its agreement with the
-/// CPU is the GPU crate's difftest), and a method without a GPU entry point
-/// in the module is a clear error with nothing written.
+/// --test cli gpu_backend`, on lavapipe): sphere tracing and the default
+/// method (`quadratic-taylor`) render PNGs on the GPU (the shader's
+/// `trace_sphere` and `trace_quadratic_taylor_blobs` entry points; their
+/// agreement with the CPU is the GPU crate's difftest), and a method
+/// without a GPU entry point in the module is a clear error with nothing
+/// written.
 #[cfg(feature = "gpu")]
 #[test]
 fn gpu_backend_renders_sphere_tracing() {
@@ -439,6 +444,22 @@ fn gpu_backend_renders_sphere_tracing() {
     }
     assert!(o.status.success(), "{err}");
     let png = std::fs::read(&gpu_png).unwrap();
+    assert!(png.len() > 8 && png[1..4] == *b"PNG", "not a PNG");
+    // The default method (`quadratic-taylor`) runs on the GPU too.
+    let default_png = d.path("default.png");
+    let o = run(&[
+        "render",
+        &scene,
+        "-o",
+        &default_png,
+        "--backend",
+        "gpu",
+        "--size",
+        "8x8",
+        "--quiet",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let png = std::fs::read(&default_png).unwrap();
     assert!(png.len() > 8 && png[1..4] == *b"PNG", "not a PNG");
     let no = d.path("no.png");
     let o = run(&[
