@@ -172,9 +172,6 @@ pub struct Blobs<T, S> {
     blobs: S,
     start: usize,
     end: usize,
-    /// A global Lipschitz bound the caller vouches for
-    /// ([`with_lipschitz`](Blobs::with_lipschitz)); zero: none.
-    lipschitz: T,
 }
 
 /// Per-blob ray data: enclosures of `u(t₀)`, `u'(t₀)`, the `u` range ends,
@@ -246,22 +243,6 @@ impl<T: Real, S: AsRef<[PointBlob<T>]>> Blobs<T, S> {
             blobs,
             start,
             end,
-            lipschitz: T::ZERO,
-        }
-    }
-
-    /// This field with the global Lipschitz bound `bound`, which the caller
-    /// vouches for (e.g. one computed on a grid over the scene's box,
-    /// tighter than the sum of the blobs' slopes: the `molecule` scene):
-    /// [`Field::lipschitz`] returns it instead of `Σ |wᵢ|·max|kᵢ'|`. It is
-    /// not checked; a bound that is too small makes sphere tracing miss
-    /// roots. Ignored unless positive and finite (`0` restores the blobs'
-    /// own bound). The GPU kernel builds the molecule's field this way.
-    #[cfg_attr(not(target_arch = "spirv"), inline)]
-    pub fn with_lipschitz(self, bound: T) -> Self {
-        Self {
-            lipschitz: bound,
-            ..self
         }
     }
 
@@ -541,13 +522,9 @@ impl<T: Real, S: AsRef<[PointBlob<T>]>> Field<T> for Blobs<T, S> {
         -self.density(p) + self.iso
     }
 
-    /// The bound given to [`with_lipschitz`](Blobs::with_lipschitz), else
     /// `Σ |wᵢ|·max|kᵢ'|` (rounded up); `None` when a blob uses the inverse
     /// kernel (unbounded slope).
     fn lipschitz(&self) -> Option<T> {
-        if self.lipschitz > T::ZERO && self.lipschitz.is_finite() {
-            return Some(self.lipschitz);
-        }
         let mut l = Interval::point(T::ZERO);
         let all = self.blobs.as_ref();
         let end = self.end.min(all.len());
@@ -633,33 +610,6 @@ mod tests {
         assert_eq!(
             Blobs::window_unchecked(0.4, blobs, 0, 4),
             Blobs::new(0.4, blobs).unwrap()
-        );
-    }
-
-    #[test]
-    fn a_given_lipschitz_bound_replaces_the_sum_of_slopes_alone() {
-        let f = scene();
-        let own = f.lipschitz().unwrap();
-        let g = f.with_lipschitz(0.25 * own);
-        assert_eq!(g.lipschitz(), Some(0.25 * own));
-        // Ignored unless positive and finite.
-        for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
-            assert_eq!(f.with_lipschitz(bad).lipschitz(), Some(own), "{bad}");
-        }
-        // Nothing else changes.
-        let ray = Ray::new([-1.5, 0.1, 0.05], [1.0, 0.05, 0.0]);
-        for i in 0..20 {
-            let p = [-1.0 + 0.1 * i as f64, 0.05 * i as f64 - 0.4, 0.1];
-            let (a, b): (f64, f64) = (f.eval(p), g.eval(p));
-            assert_eq!(a, b);
-        }
-        assert_eq!(
-            f.taylor_linear(&ray, 0.5, 1.1),
-            g.taylor_linear(&ray, 0.5, 1.1)
-        );
-        assert_eq!(
-            f.taylor_quadratic(&ray, 0.5, 1.1),
-            g.taylor_quadratic(&ray, 0.5, 1.1)
         );
     }
 

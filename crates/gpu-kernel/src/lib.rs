@@ -142,7 +142,7 @@ impl SceneKinds for GroupsOnly {
 }
 
 /// The frame's constants, as uploaded (plain `u32`/`f32` words, `#[repr(C)]`,
-/// no padding: 37 words).
+/// no padding: 36 words).
 ///
 /// Enums travel as their `#[repr(u32)]` codes; [`Constants::setup`]
 /// decodes them (an unknown code gives `None`, and the pixel is reported
@@ -192,11 +192,6 @@ pub struct Constants {
     pub iso: f32,
     /// The number of blob groups ([`SceneKind::BlobGroups`]).
     pub groups: u32,
-    /// A global Lipschitz bound of a [`SceneKind::Blobs`] scene that the
-    /// host vouches for (the `molecule` scene's grid bound), which sphere
-    /// tracing uses instead of the blobs' own
-    /// ([`Blobs::with_lipschitz`]); `0`: none.
-    pub lipschitz: f32,
     /// Iterations of the loop-limit probe run after each sphere-tracing
     /// step of [`render_sphere_leg`] (`0`: no probe; the host sets
     /// [`GUARD_LOOPS`]).
@@ -242,14 +237,13 @@ impl Constants {
             scene: scene as u32,
             iso,
             groups,
-            lipschitz: 0.0,
             guard_loops: GUARD_LOOPS,
             leg_steps: 0,
         }
     }
 
     /// The constants as `u32` words in field order (for the upload).
-    pub fn to_words(&self) -> [u32; 37] {
+    pub fn to_words(&self) -> [u32; 36] {
         let f = |x: f32| x.to_bits();
         let [e, r, u, fw] = [self.eye, self.right, self.up, self.forward];
         let (lo, hi) = (self.bounds_lo, self.bounds_hi);
@@ -288,7 +282,6 @@ impl Constants {
             self.scene,
             f(self.iso),
             self.groups,
-            f(self.lipschitz),
             self.guard_loops,
             self.leg_steps,
         ]
@@ -1070,7 +1063,7 @@ fn render_with<P: PixelKernel, K: SceneKinds>(
             Err(_) => unsupported(),
         },
         Some(SceneKind::Blobs) if K::BLOBS && c.iso.is_finite() => {
-            let field = Blobs::new_unchecked(c.iso, blobs).with_lipschitz(c.lipschitz);
+            let field = Blobs::new_unchecked(c.iso, blobs);
             p.run(&field, &setup, c.max_roots, x, y, roots, hits, base)
         }
         Some(SceneKind::Blobs) => unsupported(),
@@ -1163,10 +1156,9 @@ mod tests {
         assert_eq!(c.setup(), Some(setup));
         assert_eq!(c.max_roots, MAX_GPU_ROOTS);
         let w = c.to_words();
-        assert_eq!(core::mem::size_of::<Constants>(), 37 * 4);
+        assert_eq!(core::mem::size_of::<Constants>(), 36 * 4);
         assert_eq!(core::mem::size_of::<PixelLeg>(), 12 * 4);
-        assert_eq!(w[35], GUARD_LOOPS);
-        assert_eq!(w[34], 0); // no Lipschitz bound given
+        assert_eq!(w[34], GUARD_LOOPS);
         assert_eq!(w[28], Method::QuadraticMixed as u32);
         assert_eq!(f32::from_bits(w[32]), 0.5);
         let bad = Constants { method: 77, ..c };

@@ -262,20 +262,17 @@ pub struct GpuScene {
     blobs: Vec<PointBlob<f32>>,
     iso: f32,
     groups: u32,
-    /// A global Lipschitz bound the scene vouches for (`molecule`); `0`:
-    /// none ([`Constants::lipschitz`]).
-    lipschitz: f32,
 }
 
 impl GpuScene {
-    /// The flat data of a standard scene: `blobs` (union of blob groups),
-    /// `blobs-sum` (one blob set) and `molecule` (one blob set of Gaussian
-    /// atoms, with its grid Lipschitz bound for sphere tracing).
+    /// The flat data of a standard scene: `blobs` (union of blob groups)
+    /// and `blobs-sum` (one blob set).
     ///
     /// # Errors
-    /// [`GpuError::UnsupportedScene`] for the other scenes: the HRBF and
-    /// SCALIS scenes and homothetic skeletons (no flat field yet), the
-    /// blobtrees (their decoding does not compile with rust-gpu 0.11).
+    /// [`GpuError::UnsupportedScene`] for the other scenes: `molecule`
+    /// (its grid Lipschitz bound has no GPU data yet), the HRBF and SCALIS
+    /// scenes (no flat field yet), the blobtrees (their decoding does not
+    /// compile with rust-gpu 0.11).
     pub fn from_scene(scene: &Scene<f32>) -> Result<Self, GpuError> {
         let bounds = scene.bounds();
         let unsupported = |why: &str| {
@@ -292,7 +289,6 @@ impl GpuScene {
             blobs: Vec::new(),
             iso: 0.0,
             groups: 0,
-            lipschitz: 0.0,
         };
         match scene.field() {
             SceneField::Blobs(b) => {
@@ -321,12 +317,8 @@ impl GpuScene {
                      messages), which rust-gpu 0.11 cannot compile",
                 );
             }
-            SceneField::Molecule(m) => {
-                // One blob set with the grid Lipschitz bound that the
-                // CPU's `WithLipschitz` gives sphere tracing.
-                s.iso = m.field().iso();
-                s.blobs = m.field().blobs().to_vec();
-                s.lipschitz = m.bound();
+            SceneField::Molecule(_) => {
+                return unsupported("its grid Lipschitz bound is not uploaded yet");
             }
             SceneField::Hrbf(_) => return unsupported("HRBF has no flat GPU field yet"),
             SceneField::Scalis(_) => return unsupported("SCALIS has no flat GPU field yet"),
@@ -710,7 +702,6 @@ impl GpuTracer {
         let (pipeline, resumable) = self.pipeline(settings.method, scene.kind)?;
         let c = Constants {
             leg_steps,
-            lipschitz: scene.lipschitz,
             ..Constants::new(&setup, scene.kind, scene.iso, slots, scene.groups)
         };
         let n = settings.width as usize * settings.height as usize;
@@ -1389,19 +1380,6 @@ mod tests {
         );
         let sum = Scene::<f32>::build("blobs-sum", DEFAULT_SEED).unwrap();
         assert_eq!(GpuScene::from_scene(&sum).unwrap().kind(), SceneKind::Blobs);
-        assert_eq!(GpuScene::from_scene(&sum).unwrap().lipschitz, 0.0);
-        // The molecule: one blob set with the CPU's grid Lipschitz bound.
-        let mol = Scene::<f32>::build("molecule", DEFAULT_SEED).unwrap();
-        let m = GpuScene::from_scene(&mol).unwrap();
-        assert_eq!(m.kind(), SceneKind::Blobs);
-        let SceneField::Molecule(w) = mol.field() else {
-            panic!("molecule is a blob set with a bound")
-        };
-        assert_eq!(
-            (m.lipschitz, m.blobs.len()),
-            (w.bound(), w.field().blobs().len())
-        );
-        assert!(m.lipschitz > 0.0);
         let agg = Scene::<f32>::build("aggregate-1", DEFAULT_SEED).unwrap();
         assert!(GpuScene::from_scene(&agg).is_err());
         let hrbf = Scene::<f32>::build("hrbf-8", DEFAULT_SEED).unwrap();
