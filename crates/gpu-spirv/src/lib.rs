@@ -69,9 +69,15 @@
 //! module `NoContraction` before the driver sees it, so that no driver
 //! fuses or reassociates them. Quotients of `f32`s are computed in `f64`
 //! and rounded once, which gives the correctly rounded quotient under
-//! Vulkan's 2.5-ulp division; square roots are `libm`'s integer-only,
-//! correctly rounded ones. The GPU thus computes the CPU's bounds, bit for
-//! bit ([`arith_probe`] and the difftests check it on the driver in use).
+//! Vulkan's 2.5-ulp division; square roots are the driver's GLSL `Sqrt`
+//! (rust-gpu replaces `libm`'s `sqrtf` with it), correctly rounded on
+//! lavapipe ([`outward_probe`] checks the bounds against exact results)
+//! but only a few ulp by Vulkan's precision table, so `ia-core`'s one-step
+//! margin is unproven on other drivers (issue 9, open; the same holds for
+//! `exp`, used by Gaussian kernels, which the GPU scenes do not use). On
+//! lavapipe the GPU thus computes the CPU's bounds, bit for bit
+//! ([`arith_probe`], [`outward_probe`] and the difftests check it on the
+//! driver in use).
 //! Subnormals are assumed preserved (Vulkan allows flushing them).
 
 use boundtrace_fields::PointBlob;

@@ -18,14 +18,27 @@
 pub(crate) const TRANSCENDENTAL_ULPS: u32 = 2;
 /// Float steps an `exp`, `ln`, `sin`, `cos` or `pow` result is widened by.
 ///
-/// On SPIR-V the `libm` code runs on the device's arithmetic, whose division
-/// is only accurate to 2.5 ulp (Vulkan precision table), so the margin is wider.
+/// On SPIR-V the margin is wider, but **not proven sound on every
+/// driver**: rust-gpu 0.11 replaces the calls to `libm`'s `expf`, `logf`,
+/// `sinf`, `cosf`, `powf` (and their `f64` forms) with GLSL.std.450
+/// instructions (`rustc_codegen_spirv`'s libm intrinsics), whose Vulkan
+/// precision is coarser than 8 steps in places: `Exp` 3 + 2·|x| ulp, `Log`
+/// 3 ulp or 2⁻²¹ absolute, `Sin`/`Cos` 2⁻¹¹ absolute on [−π, π], `Pow`
+/// inherited from `exp2(y·log2 x)`. The blob scenes the GPU traces today
+/// use compact polynomial kernels (no transcendental function in their
+/// bounds); a Gaussian kernel's `exp` on the GPU is an open soundness gap
+/// (issue 9, BENCHMARKS.md "GPU", session 11).
 #[cfg(target_arch = "spirv")]
 pub(crate) const TRANSCENDENTAL_ULPS: u32 = 8;
 
 /// Float steps a `sqrt` result is widened by: it is correctly rounded on
-/// CPUs (IEEE 754) and on SPIR-V too, where `libm`'s generic `sqrtf`/`sqrt`
-/// runs (integer operations only: no driver `sqrt` is involved).
+/// CPUs (IEEE 754). On SPIR-V rust-gpu 0.11 replaces `libm`'s
+/// `sqrtf`/`sqrt` with the driver's GLSL.std.450 `Sqrt`, whose Vulkan
+/// precision is only inherited from `1 / inversesqrt(x)` (a few ulp): one
+/// step is sound where the driver's square root is correctly rounded, as
+/// on lavapipe (`boundtrace-gpu`'s `outward_probe` checks the bounds
+/// against exact results), and an open soundness gap on other drivers
+/// (issue 9).
 pub(crate) const SQRT_ULPS: u32 = 1;
 
 /// Transcendental functions of a float type, selected by feature once.
