@@ -246,15 +246,18 @@ pub fn default_spirv_path() -> PathBuf {
 /// `…-linear-taylor-groups.spv`, … (for `BOUNDTRACE_GPU_SPV=dir/x.spv`:
 /// `dir/x-segment-blobs.spv`, …); `None` for other methods and kinds.
 pub fn leg_spirv_path(method: Method, kind: SceneKind) -> Option<PathBuf> {
-    leg_path_beside(&default_spirv_path(), leg_slot(method, kind)?)
+    Some(leg_path_beside(
+        &default_spirv_path(),
+        leg_slot(method, kind)?,
+    ))
 }
 
 /// Leg module `slot` beside the main module `main`.
-fn leg_path_beside(main: &Path, slot: usize) -> Option<PathBuf> {
+fn leg_path_beside(main: &Path, slot: usize) -> PathBuf {
     let stem = main
         .file_stem()
         .map_or_else(|| "boundtrace-gpu-shader".into(), |s| s.to_string_lossy());
-    Some(main.with_file_name(format!("{stem}-{}.spv", leg_module(slot).2)))
+    main.with_file_name(format!("{stem}-{}.spv", leg_module(slot).2))
 }
 
 /// A scene as GPU buffers: blobtree node words and parameters, or blobs
@@ -433,15 +436,14 @@ impl GpuTracer {
         // The leg modules are optional: without one, its method on its
         // scene kind is a `MethodUnavailable` error naming the build
         // command.
+        let main_path = default_spirv_path();
         let mut legs = Vec::new();
         for slot in 0..LEG_MODULES {
             let (method, kind, _) = leg_module(slot);
-            if let Some(path) = leg_path_beside(&default_spirv_path(), slot) {
-                match load_module_at(path) {
-                    Ok(bytes) => legs.push((method, kind, bytes)),
-                    Err(GpuError::ShaderMissing { .. }) => {}
-                    Err(e) => return Err(e),
-                }
+            match load_module_at(leg_path_beside(&main_path, slot)) {
+                Ok(bytes) => legs.push((method, kind, bytes)),
+                Err(GpuError::ShaderMissing { .. }) => {}
+                Err(e) => return Err(e),
             }
         }
         let legs: Vec<_> = legs.iter().map(|(m, k, b)| (*m, *k, &b[..])).collect();
@@ -599,9 +601,7 @@ impl GpuTracer {
                 Some(slot) => format!(
                     "; `{method}` on this scene kind is in {}, which is missing \
                      (`{BUILD_COMMAND}` builds it)",
-                    leg_path_beside(&default_spirv_path(), slot)
-                        .unwrap_or_default()
-                        .display(),
+                    leg_path_beside(&default_spirv_path(), slot).display(),
                 ),
                 None => String::new(),
             };
@@ -1424,7 +1424,7 @@ mod tests {
     #[test]
     fn leg_modules_sit_beside_the_main_one() {
         let main = Path::new("/t/spirv/boundtrace-gpu-shader.spv");
-        let path = |m, k| leg_path_beside(main, leg_slot(m, k).unwrap()).unwrap();
+        let path = |m, k| leg_path_beside(main, leg_slot(m, k).unwrap());
         assert_eq!(
             path(Method::Segment, SceneKind::Blobs),
             Path::new("/t/spirv/boundtrace-gpu-shader-segment-blobs.spv")
@@ -1435,7 +1435,7 @@ mod tests {
         );
         let slot = leg_slot(Method::LinearTaylor, SceneKind::BlobGroups).unwrap();
         assert_eq!(
-            leg_path_beside(Path::new("x/my.spv"), slot).unwrap(),
+            leg_path_beside(Path::new("x/my.spv"), slot),
             Path::new("x/my-linear-taylor-groups.spv")
         );
         assert_eq!(leg_entry(slot), "trace_linear_taylor_groups");
