@@ -57,6 +57,13 @@
 //! [`GpuTracer::render`] answers [`GpuError::MethodUnavailable`]
 //! (BENCHMARKS.md "GPU").
 //!
+//! **Drivers.** Checked on lavapipe (CI) only. NVIDIA's Vulkan driver
+//! 580 (H100, session 12) runs the probes but crashes (SIGSEGV in its NVVM
+//! back end) compiling every tracing entry point; the cause is not yet
+//! found (BENCHMARKS.md "GPU", session 12). The host rewrites rust-gpu's
+//! Vulkan memory model declaration to GLSL450 before the driver sees a
+//! module, since wgpu does not enable the `vulkanMemoryModel` feature.
+//!
 //! Limits: `f32` only; the per-pixel root buffer of transparent mode holds
 //! [`MAX_GPU_ROOTS`] roots (more is a [`GpuError::MaxRoots`]); scenes with
 //! flat GPU data are the blob scenes (`blobs`, `blobs-sum`) — see
@@ -73,7 +80,8 @@
 //! (rust-gpu replaces `libm`'s `sqrtf` with it), correctly rounded on
 //! lavapipe ([`outward_probe`] checks the bounds against exact results)
 //! but only a few ulp by Vulkan's precision table, so `ia-core`'s one-step
-//! margin is unproven on other drivers (issue 9, open; the same holds for
+//! margin is unproven on other drivers (NVIDIA 580: errors up to 0.92 ulp
+//! seen, every bound still enclosing; issue 9, open; the same holds for
 //! `exp`, used by Gaussian kernels, which the GPU scenes do not use). On
 //! lavapipe the GPU thus computes the CPU's bounds, bit for bit
 //! ([`arith_probe`], [`outward_probe`] and the difftests check it on the
@@ -92,6 +100,7 @@ use boundtrace_tracer::{Method, Mode, RayStats, Side, Status, Trace};
 use std::fmt;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
+use std::time::{Duration, Instant};
 
 /// The command that builds the SPIR-V module (run from the repository root).
 pub const BUILD_COMMAND: &str = "scripts/build-spirv.sh";
@@ -381,8 +390,9 @@ pub struct GpuTracer {
     leg_modules: [Option<Vec<u8>>; LEG_MODULES],
     /// The bind group layout shared by the tracing entry points.
     layout: wgpu::PipelineLayout,
-    /// `trace_sphere`'s pipeline, created by [`GpuTracer::new`].
-    sphere: wgpu::ComputePipeline,
+    /// `trace_sphere`'s pipeline, created on first use like the others (a
+    /// driver that cannot compile it leaves the other methods usable).
+    sphere: OnceLock<Result<wgpu::ComputePipeline, String>>,
     /// The leg modules' pipelines ([`leg_slot`]'s order), created on first
     /// use (a driver takes about as long as for `trace_sphere`: only the
     /// renders of that method and kind pay).
@@ -419,6 +429,23 @@ const STORAGE_ENTRIES: [(u32, bool); 8] = [
     (7, false),
 ];
 
+/// Where the time of one GPU frame went
+/// ([`GpuTracer::render_profiled`]), measured with the host's wall clock.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RenderProfile {
+    /// The dispatches (legs) the frame took.
+    pub dispatches: u32,
+    /// From the first dispatch's submission until the GPU finished the
+    /// last one: the tracing, with the read-backs of the legs' progress
+    /// between dispatches, without buffer set-up, upload, the read-back of
+    /// the results and the frame's assembly.
+    pub dispatch: Duration,
+    /// The whole call: checks, buffer set-up and upload, the dispatches,
+    /// the read-back and the frame's assembly (the pipeline's first
+    /// compilation too, on a method's first frame).
+    pub total: Duration,
+}
+
 /// Words of a [`PixelLeg`].
 const LEG_WORDS: usize = core::mem::size_of::<PixelLeg>() / 4;
 
@@ -454,7 +481,9 @@ impl GpuTracer {
     ///
     /// # Errors
     /// As [`new`](Self::new); [`GpuError::Shader`] for bytes that are not a
-    /// valid module with the `trace_sphere` entry point.
+    /// SPIR-V module with the `trace_sphere` entry point (a driver that
+    /// cannot compile an entry point makes its method's renders fail with
+    /// [`GpuError::MethodUnavailable`]).
     pub fn with_spirv(bytes: &[u8]) -> Result<Self, GpuError> {
         Self::with_spirv_modules(bytes, &[])
     }
@@ -466,12 +495,16 @@ impl GpuTracer {
     /// # Errors
     /// As [`with_spirv`](Self::with_spirv); [`GpuError::Shader`] for a leg
     /// module that is not a SPIR-V module, or given for a method and kind
-    /// that have none, or twice.
+    /// that have none, or twice; also for any module whose storage buffers
+    /// have another layout than this host's (a module built from other
+    /// sources: it would read the scene and write the pixels wrongly,
+    /// silently).
     pub fn with_spirv_modules(
         bytes: &[u8],
         legs: &[(Method, SceneKind, &[u8])],
     ) -> Result<Self, GpuError> {
         check_magic(bytes)?;
+        check_layout(bytes, "the main module")?;
         let mut modules: [Option<Vec<u8>>; LEG_MODULES] = Default::default();
         for &(method, kind, m) in legs {
             let slot = leg_slot(method, kind).ok_or_else(|| {
@@ -489,6 +522,7 @@ impl GpuTracer {
                 )));
             }
             check_magic(m)?;
+            check_layout(m, &leg_module(slot).2)?;
             modules[slot] = Some(m.to_vec());
         }
         let mut gpu = pollster::block_on(Self::create(bytes))?;
@@ -525,10 +559,6 @@ impl GpuTracer {
                 "the module has no `{SPHERE_ENTRY}` entry point (an old build? run {BUILD_COMMAND})"
             )));
         }
-        let sphere = tracing_pipeline(&device, &layout, bytes, SPHERE_ENTRY)
-            .await
-            .map_err(GpuError::Shader)?;
-        release_freed_memory();
         Ok(Self {
             adapter: info,
             device,
@@ -536,7 +566,7 @@ impl GpuTracer {
             module: bytes.to_vec(),
             leg_modules: Default::default(),
             layout,
-            sphere,
+            sphere: OnceLock::new(),
             legs: Default::default(),
             compiling: std::sync::Mutex::new(()),
             general: OnceLock::new(),
@@ -574,10 +604,14 @@ impl GpuTracer {
         method: Method,
         kind: SceneKind,
     ) -> Result<(&wgpu::ComputePipeline, bool), GpuError> {
-        if method == Method::Sphere {
-            return Ok((&self.sphere, true));
-        }
         let unavailable = |why: String| GpuError::MethodUnavailable { method, why };
+        if method == Method::Sphere {
+            return self
+                .lazy_pipeline(&self.sphere, &self.module, SPHERE_ENTRY)
+                .as_ref()
+                .map(|p| (p, true))
+                .map_err(|e| unavailable(e.clone()));
+        }
         let entries = entry_points(&self.module);
         let has = |m: &[u8], e: &str| entry_points(m).iter().any(|x| x == e);
         let slot = leg_slot(method, kind);
@@ -640,6 +674,16 @@ impl GpuTracer {
         })
     }
 
+    /// Compiles the pipeline that renders `method` on scenes of `kind`
+    /// now rather than on the first frame that needs it (a driver takes
+    /// seconds to minutes for one), so that frames are timed without it.
+    ///
+    /// # Errors
+    /// [`GpuError::MethodUnavailable`] as for [`render`](Self::render).
+    pub fn prepare(&self, method: Method, kind: SceneKind) -> Result<(), GpuError> {
+        self.pipeline(method, kind).map(|_| ())
+    }
+
     /// The adapter in use (name, backend, device type: lavapipe reports
     /// `DeviceType::Cpu`).
     pub fn adapter_info(&self) -> &wgpu::AdapterInfo {
@@ -686,6 +730,24 @@ impl GpuTracer {
         settings: &RenderSettings<f32>,
         leg_steps: u32,
     ) -> Result<(Frame<f32>, u32), GpuError> {
+        self.render_profiled(scene, camera, settings, leg_steps)
+            .map(|(frame, profile)| (frame, profile.dispatches))
+    }
+
+    /// [`render_in_legs`](Self::render_in_legs), with where the time went
+    /// ([`RenderProfile`]): the dispatches alone, and the whole call. The
+    /// frame is the same.
+    ///
+    /// # Errors
+    /// As [`render`](Self::render).
+    pub fn render_profiled(
+        &self,
+        scene: &GpuScene,
+        camera: &Camera<f32>,
+        settings: &RenderSettings<f32>,
+        leg_steps: u32,
+    ) -> Result<(Frame<f32>, RenderProfile), GpuError> {
+        let start = Instant::now();
         settings.validate()?;
         let b = scene.bounds;
         if !(0..3).all(|i| b[0][i].is_finite() && b[1][i].is_finite() && b[0][i] <= b[1][i]) {
@@ -711,7 +773,7 @@ impl GpuTracer {
             ..Constants::new(&setup, scene.kind, scene.iso, slots, scene.groups)
         };
         let n = settings.width as usize * settings.height as usize;
-        let (pix_words, hit_words, dispatches) =
+        let (pix_words, hit_words, dispatches, dispatch) =
             self.run(pipeline, resumable, &c, scene, n, n * slots as usize)?;
         let mut pixels = Vec::with_capacity(n);
         let mut hits = Vec::new();
@@ -738,12 +800,18 @@ impl GpuTracer {
         }
         let frame = Frame::from_parts(*camera, *settings, pixels, hits)
             .ok_or_else(|| GpuError::Dispatch("inconsistent results read back".into()))?;
-        Ok((frame, dispatches))
+        let profile = RenderProfile {
+            dispatches,
+            dispatch,
+            total: start.elapsed(),
+        };
+        Ok((frame, profile))
     }
 
     /// Uploads, dispatches (until every pixel is done, for a `resumable`
     /// entry point) and reads back the pixel and hit words; also the number
-    /// of dispatches.
+    /// of dispatches and the wall-clock time from the first submission to
+    /// the end of the last dispatch.
     fn run(
         &self,
         pipeline: &wgpu::ComputePipeline,
@@ -752,7 +820,7 @@ impl GpuTracer {
         scene: &GpuScene,
         pixels: usize,
         hits: usize,
-    ) -> Result<(Vec<u32>, Vec<u32>, u32), GpuError> {
+    ) -> Result<(Vec<u32>, Vec<u32>, u32, Duration), GpuError> {
         use wgpu::util::DeviceExt;
         let dev = &self.device;
         let words_of = |w: &[u32]| -> Vec<u8> {
@@ -833,6 +901,7 @@ impl GpuTracer {
         // pixel is done.
         let mut dispatches = 0u32;
         let mut progress = None;
+        let start = Instant::now();
         loop {
             let scope = dev.push_error_scope(wgpu::ErrorFilter::Validation);
             let mut enc =
@@ -856,6 +925,8 @@ impl GpuTracer {
                 return Err(GpuError::Dispatch(error_chain(&e)));
             }
             if !resumable {
+                dev.poll(wgpu::PollType::wait_indefinitely())
+                    .map_err(|e| GpuError::Dispatch(e.to_string()))?;
                 break;
             }
             let words = read_back(dev, &legs_back)?;
@@ -874,13 +945,14 @@ impl GpuTracer {
             }
             progress = Some(now);
         }
+        let dispatch = start.elapsed();
         let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
         enc.copy_buffer_to_buffer(&outs[0], 0, &backs[0], 0, pix_bytes);
         enc.copy_buffer_to_buffer(&outs[1], 0, &backs[1], 0, hit_bytes);
         self.queue.submit([enc.finish()]);
         let pixels = read_back(dev, &backs[0])?;
         let hits = read_back(dev, &backs[1])?;
-        Ok((pixels, hits, dispatches))
+        Ok((pixels, hits, dispatches, dispatch))
     }
 }
 
@@ -1027,7 +1099,7 @@ fn shader_module(
         .chunks_exact(4)
         .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
         .collect();
-    let words = forbid_contraction(&words);
+    let words = forbid_contraction(&glsl450_memory_model(&words));
     if !device
         .features()
         .contains(wgpu::Features::PASSTHROUGH_SHADERS)
@@ -1103,6 +1175,247 @@ fn forbid_contraction(words: &[u32]) -> Vec<u32> {
     }
     out.extend_from_slice(&words[at..]);
     out
+}
+
+/// The module with the GLSL450 memory model in place of the Vulkan one,
+/// where that changes nothing the module does.
+///
+/// rust-gpu 0.11 declares the Vulkan memory model (capability
+/// `VulkanMemoryModel`, extension `SPV_KHR_vulkan_memory_model`) in every
+/// Vulkan module, but wgpu 30 enables the device's `vulkanMemoryModel`
+/// feature only for its experimental cooperative matrices. A module that
+/// declares the capability without the feature breaks a valid-usage rule
+/// (`VUID-VkShaderModuleCreateInfo-pCode-01091`, reported by the Khronos
+/// validation layer), and NVIDIA's driver 580 crashed (SIGSEGV in its
+/// SPIR-V compiler) creating the tracing pipelines of such modules
+/// (BENCHMARKS.md "GPU", session 12). Our shaders use no barrier, no
+/// atomic and no memory operand that only the Vulkan model defines, and
+/// for such a module the two models mean the same; a module that uses
+/// any (`OpControlBarrier`, `OpMemoryBarrier`, an atomic, or a load,
+/// store or copy with `MakePointerAvailable`, `MakePointerVisible` or
+/// `NonPrivatePointer`) is returned unchanged, as is one that is not
+/// valid SPIR-V.
+fn glsl450_memory_model(words: &[u32]) -> Vec<u32> {
+    const OP_EXTENSION: u32 = 10;
+    const OP_MEMORY_MODEL: u32 = 14;
+    const OP_CAPABILITY: u32 = 17;
+    const VULKAN_MEMORY_MODEL: u32 = 5345;
+    const MEMORY_MODEL_VULKAN: u32 = 3;
+    const MEMORY_MODEL_GLSL450: u32 = 1;
+    // MakePointerAvailable | MakePointerVisible | NonPrivatePointer.
+    const VULKAN_ONLY_ACCESS: u32 = 0x8 | 0x10 | 0x20;
+    let extension: Vec<u32> = {
+        // A literal string: nul-terminated, padded with nuls to whole words.
+        let mut b = b"SPV_KHR_vulkan_memory_model\0".to_vec();
+        b.resize(b.len().div_ceil(4) * 4, 0);
+        b.chunks_exact(4)
+            .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+            .collect()
+    };
+    if words.len() < 5 {
+        return words.to_vec();
+    }
+    let mut out = Vec::with_capacity(words.len());
+    out.extend_from_slice(&words[..5]);
+    let mut i = 5;
+    while i < words.len() {
+        let (len, op) = ((words[i] >> 16) as usize, words[i] & 0xffff);
+        if len == 0 || i + len > words.len() {
+            return words.to_vec();
+        }
+        let inst = &words[i..i + len];
+        let access = match op {
+            // OpLoad: type, result, pointer, [access]; OpStore: pointer,
+            // object, [access]; OpCopyMemory(Sized): target, source,
+            // [size], [access]…
+            61 => inst.get(4).copied(),
+            62 | 63 => inst.get(3).copied(),
+            64 => inst.get(4).copied(),
+            _ => None,
+        };
+        // OpControlBarrier, OpMemoryBarrier, OpAtomicLoad … OpAtomicXor,
+        // OpAtomicFlagTestAndSet/Clear, OpAtomicFMinEXT/FMaxEXT/FAddEXT.
+        let synchronises = matches!(op, 224..=242 | 318 | 319 | 5614 | 5615 | 6035);
+        if synchronises || access.is_some_and(|a| a & VULKAN_ONLY_ACCESS != 0) {
+            return words.to_vec();
+        }
+        match op {
+            OP_CAPABILITY if inst.get(1) == Some(&VULKAN_MEMORY_MODEL) => {}
+            OP_EXTENSION if inst[1..] == extension[..] => {}
+            OP_MEMORY_MODEL if len == 3 && inst[2] == MEMORY_MODEL_VULKAN => {
+                out.extend_from_slice(&[inst[0], inst[1], MEMORY_MODEL_GLSL450]);
+            }
+            _ => out.extend_from_slice(inst),
+        }
+        i += len;
+    }
+    out
+}
+
+/// How a module lays out the storage buffer bound at one binding of
+/// descriptor set 0.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum BufferLayout {
+    /// A runtime array with this stride in bytes.
+    Array(u32),
+    /// A struct of this size in bytes (its last member's offset and size).
+    Struct(u32),
+}
+
+/// The layouts this host gives the tracing entry points' buffers
+/// ([`STORAGE_ENTRIES`]): the constants, the scene's words, floats and
+/// blobs, then pixels, hits, roots and legs.
+fn host_layouts() -> [(u32, BufferLayout); 8] {
+    use core::mem::size_of;
+    let size = |n: usize| n as u32;
+    [
+        (0, BufferLayout::Struct(size(size_of::<Constants>()))),
+        (1, BufferLayout::Array(4)),
+        (2, BufferLayout::Array(4)),
+        (3, BufferLayout::Array(size(7 * 4))),
+        (4, BufferLayout::Array(size(size_of::<PixelOut>()))),
+        (5, BufferLayout::Array(size(size_of::<HitOut>()))),
+        (
+            6,
+            BufferLayout::Array(size(size_of::<boundtrace_tracer::Root<f32>>())),
+        ),
+        (7, BufferLayout::Array(size(size_of::<PixelLeg>()))),
+    ]
+}
+
+/// The layout of every storage variable of descriptor set 0 in the
+/// module: `(binding, layout)` (several variables may share a binding:
+/// the probes use bindings 0–2 with arrays of their own). Empty for words
+/// that are not a readable module.
+fn module_layouts(words: &[u32]) -> Vec<(u32, BufferLayout)> {
+    use std::collections::HashMap;
+    // OpDecorate ids: Binding, DescriptorSet, ArrayStride.
+    let (mut binding, mut set, mut stride) = (HashMap::new(), HashMap::new(), HashMap::new());
+    let mut offsets: HashMap<(u32, u32), u32> = HashMap::new();
+    // Types: id → (opcode, operands after the result id).
+    let mut types: HashMap<u32, (u32, Vec<u32>)> = HashMap::new();
+    let mut constants: HashMap<u32, u32> = HashMap::new();
+    let mut variables = Vec::new();
+    let mut i = 5;
+    while i < words.len() {
+        let (len, op) = ((words[i] >> 16) as usize, words[i] & 0xffff);
+        if len == 0 || i + len > words.len() {
+            return Vec::new();
+        }
+        let w = &words[i + 1..i + len];
+        match op {
+            // OpDecorate target decoration literal.
+            71 if w.len() == 3 => {
+                let map = match w[1] {
+                    33 => &mut binding,
+                    34 => &mut set,
+                    6 => &mut stride,
+                    _ => {
+                        i += len;
+                        continue;
+                    }
+                };
+                map.insert(w[0], w[2]);
+            }
+            // OpMemberDecorate struct member Offset value.
+            72 if w.len() == 4 && w[2] == 35 => {
+                offsets.insert((w[0], w[1]), w[3]);
+            }
+            // OpTypeInt, OpTypeFloat, OpTypeVector, OpTypeArray,
+            // OpTypeRuntimeArray, OpTypeStruct, OpTypePointer.
+            21 | 22 | 23 | 28 | 29 | 30 | 32 if !w.is_empty() => {
+                types.insert(w[0], (op, w[1..].to_vec()));
+            }
+            // OpConstant type result value (array lengths).
+            43 if w.len() == 3 => {
+                constants.insert(w[1], w[2]);
+            }
+            // OpVariable type result StorageBuffer (12).
+            59 if w.len() >= 3 && w[2] == 12 => variables.push((w[0], w[1])),
+            _ => {}
+        }
+        i += len;
+    }
+    // Sizes in bytes, with a depth cap against malformed (cyclic) types.
+    fn size_of_type(
+        id: u32,
+        depth: u32,
+        types: &HashMap<u32, (u32, Vec<u32>)>,
+        stride: &HashMap<u32, u32>,
+        offsets: &HashMap<(u32, u32), u32>,
+        constants: &HashMap<u32, u32>,
+    ) -> Option<u32> {
+        let (op, w) = types.get(&id)?;
+        if depth > 16 {
+            return None;
+        }
+        let inner = |t: u32| size_of_type(t, depth + 1, types, stride, offsets, constants);
+        match (op, w.as_slice()) {
+            (21 | 22, [width, ..]) => Some(width / 8),
+            (23, [component, count]) => Some(inner(*component)? * count),
+            (28, [_, length]) => Some(stride.get(&id)? * constants.get(length)?),
+            (30, members) if !members.is_empty() => {
+                let last = members.len() as u32 - 1;
+                Some(offsets.get(&(id, last))? + inner(*members.last()?)?)
+            }
+            _ => None,
+        }
+    }
+    let mut out = Vec::new();
+    for (pointer, var) in variables {
+        let (Some(&b), Some(0)) = (binding.get(&var), set.get(&var).copied()) else {
+            continue;
+        };
+        // pointer → Block struct → its one member.
+        let Some((32, p)) = types.get(&pointer) else {
+            continue;
+        };
+        let Some((30, block)) = p.get(1).and_then(|t| types.get(t)) else {
+            continue;
+        };
+        let Some(&member) = block.first() else {
+            continue;
+        };
+        let layout = match types.get(&member) {
+            Some((29, _)) => stride.get(&member).map(|&s| BufferLayout::Array(s)),
+            Some((30, _)) => size_of_type(member, 0, &types, &stride, &offsets, &constants)
+                .map(BufferLayout::Struct),
+            _ => None,
+        };
+        if let Some(layout) = layout {
+            out.push((b, layout));
+        }
+    }
+    out
+}
+
+/// Fails when a storage buffer of the module has the same kind of layout
+/// as this host's at its binding (array or struct) but another stride or
+/// size: a module built from other sources than this host.
+fn check_layout(bytes: &[u8], what: &str) -> Result<(), GpuError> {
+    let words: Vec<u32> = bytes
+        .chunks_exact(4)
+        .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        .collect();
+    let host = host_layouts();
+    for (b, layout) in module_layouts(&words) {
+        let Some(&(_, want)) = host.iter().find(|(hb, _)| *hb == b) else {
+            continue;
+        };
+        let same_kind = matches!(
+            (layout, want),
+            (BufferLayout::Array(_), BufferLayout::Array(_))
+                | (BufferLayout::Struct(_), BufferLayout::Struct(_))
+        );
+        if same_kind && layout != want {
+            return Err(GpuError::Shader(format!(
+                "{what} was built from other sources than this host: its buffer at \
+                 binding {b} is {layout:?} bytes, the host's {want:?}; rebuild the modules \
+                 ({BUILD_COMMAND})"
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// Reads the module from [`default_spirv_path`].
@@ -1353,6 +1666,7 @@ fn status_of(code: u32) -> Result<Status, GpuError> {
 mod tests {
     use super::*;
     use boundtrace_tracer::scenes::DEFAULT_SEED;
+    use core::mem::size_of;
 
     #[test]
     fn blob_layout_is_seven_words() {
@@ -1532,6 +1846,173 @@ mod tests {
         // A truncated module is left alone.
         let cut = &module[..module.len() - 2];
         assert_eq!(forbid_contraction(cut), cut);
+    }
+
+    /// `OpExtension "SPV_KHR_vulkan_memory_model"`'s words.
+    fn memory_model_extension() -> Vec<u32> {
+        let mut b = b"SPV_KHR_vulkan_memory_model\0".to_vec();
+        b.resize(b.len().div_ceil(4) * 4, 0);
+        let mut w = vec![((1 + b.len() as u32 / 4) << 16) | 10];
+        w.extend(
+            b.chunks_exact(4)
+                .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]])),
+        );
+        w
+    }
+
+    #[test]
+    fn vulkan_memory_model_becomes_glsl450() {
+        let header = [0x0723_0203, 0x0001_0300, 0, 20, 0];
+        let shader = [(2 << 16) | 17, 1]; // OpCapability Shader
+        let vulkan = [(2 << 16) | 17, 5345]; // OpCapability VulkanMemoryModel
+        let model = |m: u32| [(3 << 16) | 14, 0, m]; // OpMemoryModel Logical m
+        let load = |access: u32| [(5 << 16) | 61, 2, 9, 5, access]; // %9 = OpLoad %2 %5 access
+        let module = |tail: &[u32]| -> Vec<u32> {
+            let mut m = header.to_vec();
+            m.extend(shader);
+            m.extend(vulkan);
+            m.extend(memory_model_extension());
+            m.extend(model(3));
+            m.extend_from_slice(tail);
+            m
+        };
+        // A plain load (access Aligned = 0x2): the capability and the
+        // extension go, the model becomes GLSL450; nothing else changes.
+        let plain = module(&load(0x2));
+        let mut want = header.to_vec();
+        want.extend(shader);
+        want.extend(model(1));
+        want.extend(load(0x2));
+        assert_eq!(glsl450_memory_model(&plain), want);
+        // Other extensions stay.
+        let mut other = module(&[]);
+        other.extend([(3 << 16) | 10, u32::from_le_bytes(*b"SPV_"), 0]);
+        assert_eq!(glsl450_memory_model(&other).len(), other.len() - 2 - 8);
+        // What only the Vulkan model defines keeps the module as it is:
+        // a NonPrivatePointer load, a barrier, an atomic.
+        for tail in [
+            load(0x20).to_vec(),
+            vec![(4 << 16) | 224, 1, 1, 0], // OpControlBarrier
+            vec![(7 << 16) | 234, 2, 9, 5, 1, 0, 6], // OpAtomicIAdd
+        ] {
+            let m = module(&tail);
+            assert_eq!(glsl450_memory_model(&m), m);
+        }
+        // So is a truncated module.
+        let cut = &plain[..plain.len() - 2];
+        assert_eq!(glsl450_memory_model(cut), cut);
+    }
+
+    /// A module with one storage buffer at `binding`: a runtime array of
+    /// `u32` with byte stride `stride`, or (`stride == 0`) a struct of
+    /// two `u32`s at offsets 0 and `offset`.
+    fn one_buffer(binding: u32, stride: u32, offset: u32) -> Vec<u32> {
+        // %1 uint, %2 runtime array or struct, %3 block, %4 pointer, %5 variable.
+        let mut w = vec![0x0723_0203, 0x0001_0300, 0, 6, 0];
+        if stride > 0 {
+            w.extend([(4 << 16) | 71, 2, 6, stride]); // ArrayStride
+        } else {
+            w.extend([
+                (5 << 16) | 72,
+                2,
+                0,
+                35,
+                0,
+                (5 << 16) | 72,
+                2,
+                1,
+                35,
+                offset,
+            ]);
+        }
+        w.extend([(5 << 16) | 72, 3, 0, 35, 0]); // Offset 0
+        w.extend([(4 << 16) | 71, 5, 34, 0, (4 << 16) | 71, 5, 33, binding]);
+        w.extend([(4 << 16) | 21, 1, 32, 0]);
+        if stride > 0 {
+            w.extend([(3 << 16) | 29, 2, 1]);
+        } else {
+            w.extend([(4 << 16) | 30, 2, 1, 1]);
+        }
+        w.extend([
+            (3 << 16) | 30,
+            3,
+            2,
+            (4 << 16) | 32,
+            4,
+            12,
+            3,
+            (4 << 16) | 59,
+            4,
+            5,
+            12,
+        ]);
+        w
+    }
+
+    fn bytes(words: &[u32]) -> Vec<u8> {
+        words.iter().flat_map(|w| w.to_le_bytes()).collect()
+    }
+
+    #[test]
+    fn modules_of_another_layout_are_refused() {
+        let pixel = size_of::<PixelOut>() as u32;
+        assert_eq!(pixel, 36, "the host reads 9 words per pixel");
+        assert_eq!(
+            module_layouts(&one_buffer(4, pixel, 0)),
+            [(4, BufferLayout::Array(pixel))]
+        );
+        assert!(check_layout(&bytes(&one_buffer(4, pixel, 0)), "m").is_ok());
+        let e = check_layout(&bytes(&one_buffer(4, pixel + 4, 0)), "m").unwrap_err();
+        assert!(e.to_string().contains(BUILD_COMMAND), "{e}");
+        // The constants: a struct whose size is its last member's offset + 4.
+        let constants = size_of::<Constants>() as u32;
+        assert_eq!(
+            module_layouts(&one_buffer(0, 0, constants - 4)),
+            [(0, BufferLayout::Struct(constants))]
+        );
+        assert!(check_layout(&bytes(&one_buffer(0, 0, constants - 4)), "m").is_ok());
+        assert!(check_layout(&bytes(&one_buffer(0, 0, constants)), "m").is_err());
+        // An array where the host has a struct (the probes' binding 0) is
+        // not the tracer's buffer: not compared.
+        assert!(check_layout(&bytes(&one_buffer(0, 4, 0)), "m").is_ok());
+        // Bindings the host does not use, and truncated modules, pass.
+        assert!(check_layout(&bytes(&one_buffer(9, 12, 0)), "m").is_ok());
+        let cut = one_buffer(4, 40, 0);
+        assert!(module_layouts(&cut[..cut.len() - 2]).is_empty());
+    }
+
+    /// The modules `scripts/build-spirv.sh` built (required under
+    /// `CI=true`) declare exactly the host's layout for every tracing
+    /// buffer, so the check above sees real modules' layouts.
+    #[test]
+    fn built_modules_have_the_host_layout() {
+        let main = default_spirv_path();
+        if !main.is_file() {
+            assert!(
+                std::env::var_os("CI").is_none(),
+                "CI=true: {} missing",
+                main.display()
+            );
+            return;
+        }
+        let mut paths = vec![main.clone()];
+        paths.extend((0..LEG_MODULES).map(|slot| leg_path_beside(&main, slot)));
+        for path in paths.into_iter().filter(|p| p.is_file()) {
+            let bytes = std::fs::read(&path).unwrap();
+            let words: Vec<u32> = bytes
+                .chunks_exact(4)
+                .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+                .collect();
+            let found = module_layouts(&words);
+            for (b, want) in host_layouts() {
+                assert!(
+                    found.contains(&(b, want)),
+                    "{}: binding {b}: {want:?} not among {found:?}",
+                    path.display()
+                );
+            }
+            check_layout(&bytes, "module").unwrap();
+        }
     }
 
     #[test]

@@ -151,7 +151,7 @@ fn outward_failure(a: f32, b: f32, [lo, hi, rlo, rhi]: [f32; 4]) -> Option<Strin
 /// SPIR-V (`outward_ops`: every interval `÷` and `√` of the GPU tracer is
 /// built from them) enclose the exact results on 20,000 spread pairs and
 /// edge cases (zeros, infinities, overflowing and perfect quotients), and
-/// equal the CPU's bounds bit for bit. The exact check runs on the CPU's
+/// on a CPU adapter (lavapipe) equal the CPU's bounds bit for bit. The exact check runs on the CPU's
 /// bounds too, so a checker that accepts nothing would fail.
 #[test]
 fn outward_bounds_enclose_exact_quotients_and_roots() {
@@ -176,7 +176,14 @@ fn outward_bounds_enclose_exact_quotients_and_roots() {
     let Some((gpu, info)) = ran(outward_probe(&pairs)) else {
         return;
     };
-    let mut bad = Vec::new();
+    // Containment must hold on every driver. Bit-identity with the CPU
+    // holds where the driver's `Sqrt` is correctly rounded and subnormal
+    // quotients are kept (lavapipe, which CI runs); Vulkan requires
+    // neither, and NVIDIA's driver 580 rounds 17 % of these square roots
+    // differently (within 0.92 ulp) and flushes a subnormal quotient
+    // (BENCHMARKS.md "GPU", session 12): there, differences are counted.
+    let strict = info.device_type == wgpu::DeviceType::Cpu;
+    let (mut bad, mut differ) = (Vec::new(), 0);
     for (&[a, b], g) in pairs.iter().zip(&gpu) {
         let cpu = [
             round::div_down(a, b),
@@ -190,15 +197,19 @@ fn outward_bounds_enclose_exact_quotients_and_roots() {
         if let Some(why) = outward_failure(a, b, *g) {
             bad.push(format!("GPU: {why}"));
         } else if cpu.map(f32::to_bits) != g.map(f32::to_bits) {
-            bad.push(format!("[{a:e}, {b:e}]: GPU {g:?}, CPU {cpu:?}"));
+            differ += 1;
+            if strict {
+                bad.push(format!("[{a:e}, {b:e}]: GPU {g:?}, CPU {cpu:?}"));
+            }
         }
     }
     eprintln!(
-        "{} ({:?}): {} pairs, {} wrong",
+        "{} ({:?}): {} pairs, {} wrong, {differ} differ from the CPU's bounds{}",
         info.name,
         info.device_type,
         pairs.len(),
-        bad.len()
+        bad.len(),
+        if strict { " (must be 0 here)" } else { "" }
     );
     assert!(bad.is_empty(), "{}", bad.join("\n"));
 }
