@@ -86,28 +86,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "| scene | mode | method | GPU dispatch (ms) | GPU frame (ms) | dispatches | mean steps | CPU (ms) | CPU / GPU frame | hit/miss differ | steps differ | depth differ |"
     );
     println!("| --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |");
-    let entries = gpu.entry_points();
-    let mut methods = vec![Method::Sphere];
-    for (method, entry) in [
-        (Method::Segment, "trace_segment"),
-        (Method::LinearTaylor, "trace_linear_taylor"),
-        (Method::QuadraticTaylor, "trace_quadratic_taylor"),
-    ] {
-        if entries
-            .iter()
-            .any(|e| e.starts_with(entry) || e == "trace_pixels")
-        {
-            methods.push(method);
-        }
-    }
-    if entries.iter().any(|e| e == "trace_pixels") {
-        methods.extend([
-            Method::LinearBottomUp,
-            Method::LinearMixed,
-            Method::QuadraticBottomUp,
-            Method::QuadraticMixed,
-        ]);
-    }
+    let mut methods = gpu.methods();
     if let Some(named) = list("methods=") {
         methods = named
             .iter()

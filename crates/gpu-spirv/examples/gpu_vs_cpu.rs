@@ -1,9 +1,9 @@
 //! GPU (SPIR-V on wgpu) vs CPU render time for a few scenes and methods:
 //! `sphere`, `segment`, `linear-taylor` and `quadratic-taylor` (the
 //! `trace_sphere`, `trace_segment_*`, `trace_linear_taylor_*` and
-//! `trace_quadratic_taylor_*` entry points, built by default), and
-//! `quadratic-bottom-up`,
-//! `quadratic-mixed` when the module has `trace_pixels`
+//! `trace_quadratic_taylor_*` entry points, built by default), and the
+//! bottom-up and mixed methods when the module has `trace_pixels`
+//! ([`GpuTracer::methods`] lists them)
 //! (`BOUNDTRACE_SHADER_FEATURES=trace scripts/build-spirv.sh`; see
 //! BENCHMARKS.md "GPU"). Needs a Vulkan adapter.
 //!
@@ -23,7 +23,6 @@
 //! limit cut rays short).
 
 use boundtrace_gpu::{GpuScene, GpuTracer};
-use boundtrace_tracer::Method;
 use boundtrace_tracer::camera::Camera;
 use boundtrace_tracer::render::{RenderSettings, render_serial};
 use boundtrace_tracer::scenes::{DEFAULT_SEED, Scene};
@@ -52,23 +51,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "| scene | method | CPU 1 thread (ms) | GPU (ms) | CPU / GPU | hit/miss agree | steps agree | GPU dispatches |"
     );
     println!("| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |");
-    let entries = gpu.entry_points();
-    let mut methods = vec![Method::Sphere];
-    for (method, entry) in [
-        (Method::Segment, "trace_segment"),
-        (Method::LinearTaylor, "trace_linear_taylor"),
-        (Method::QuadraticTaylor, "trace_quadratic_taylor"),
-    ] {
-        if entries
-            .iter()
-            .any(|e| e.starts_with(entry) || e == "trace_pixels")
-        {
-            methods.push(method);
-        }
-    }
-    if entries.iter().any(|e| e == "trace_pixels") {
-        methods.extend([Method::QuadraticBottomUp, Method::QuadraticMixed]);
-    }
+    let methods = gpu.methods();
     // Build every pipeline before timing (the first frame of a method and
     // scene kind builds its pipeline).
     for name in ["blobs", "blobs-sum"] {

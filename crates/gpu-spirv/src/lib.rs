@@ -573,10 +573,36 @@ impl GpuTracer {
         })
     }
 
+    /// The methods the modules hold an entry point for, on at least one
+    /// scene kind: sphere tracing always, a leg method when one of its leg
+    /// modules (or `trace_pixels`) is there, and the bottom-up and mixed
+    /// forward methods with `trace_pixels`. Whether the driver compiles
+    /// them shows at [`prepare`](Self::prepare).
+    pub fn methods(&self) -> Vec<Method> {
+        let entries = self.entry_points();
+        let general = entries.iter().any(|e| e == ENTRY);
+        let mut methods = vec![Method::Sphere];
+        for slot in 0..LEG_MODULES {
+            let method = leg_module(slot).0;
+            let present = general || entries.contains(&leg_entry(slot));
+            if present && !methods.contains(&method) {
+                methods.push(method);
+            }
+        }
+        if general {
+            methods.extend([
+                Method::LinearBottomUp,
+                Method::LinearMixed,
+                Method::QuadraticBottomUp,
+                Method::QuadraticMixed,
+            ]);
+        }
+        methods
+    }
+
     /// The names of the compute entry points of the module
     /// (`trace_sphere`, `interval_square`, `arith_ops`, `outward_ops`, and
-    /// `trace_pixels`
-    /// when the shader was built with its `trace` feature) and of the leg
+    /// `trace_pixels` when built with the `trace` feature) and of the leg
     /// modules (`trace_segment_blobs`, `trace_linear_taylor_groups`, …, and
     /// their own probes), without repeats.
     pub fn entry_points(&self) -> Vec<String> {
@@ -1023,10 +1049,7 @@ fn release_freed_memory() {
 /// The names of a SPIR-V module's entry points (`OpEntryPoint`), in
 /// order; empty for words that are not a module.
 fn entry_points(bytes: &[u8]) -> Vec<String> {
-    let words: Vec<u32> = bytes
-        .chunks_exact(4)
-        .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-        .collect();
+    let words = le_words(bytes);
     let mut names = Vec::new();
     if words.len() < 5 || words[0] != 0x0723_0203 {
         return names;
@@ -1095,10 +1118,7 @@ fn shader_module(
     entry: &str,
     workgroup: (u32, u32, u32),
 ) -> wgpu::ShaderModule {
-    let words: Vec<u32> = bytes
-        .chunks_exact(4)
-        .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-        .collect();
+    let words = le_words(bytes);
     let words = forbid_contraction(&glsl450_memory_model(&words));
     if !device
         .features()
@@ -1393,10 +1413,7 @@ fn module_layouts(words: &[u32]) -> Vec<(u32, BufferLayout)> {
 /// as this host's at its binding (array or struct) but another stride or
 /// size: a module built from other sources than this host.
 fn check_layout(bytes: &[u8], what: &str) -> Result<(), GpuError> {
-    let words: Vec<u32> = bytes
-        .chunks_exact(4)
-        .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-        .collect();
+    let words = le_words(bytes);
     let host = host_layouts();
     for (b, layout) in module_layouts(&words) {
         let Some(&(_, want)) = host.iter().find(|(hb, _)| *hb == b) else {
@@ -1416,6 +1433,15 @@ fn check_layout(bytes: &[u8], what: &str) -> Result<(), GpuError> {
         }
     }
     Ok(())
+}
+
+/// Little-endian 32-bit words of `bytes` (a SPIR-V module, a mapped
+/// buffer); a trailing partial word is dropped.
+fn le_words(bytes: &[u8]) -> Vec<u32> {
+    bytes
+        .chunks_exact(4)
+        .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        .collect()
 }
 
 /// Reads the module from [`default_spirv_path`].
@@ -1609,10 +1635,7 @@ fn read_back(device: &wgpu::Device, back: &wgpu::Buffer) -> Result<Vec<u32>, Gpu
     let view = slice
         .get_mapped_range()
         .map_err(|e| GpuError::Dispatch(e.to_string()))?;
-    let words: Vec<u32> = view
-        .chunks_exact(4)
-        .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-        .collect();
+    let words = le_words(&view);
     drop(view);
     back.unmap();
     Ok(words)
@@ -1999,11 +2022,7 @@ mod tests {
         paths.extend((0..LEG_MODULES).map(|slot| leg_path_beside(&main, slot)));
         for path in paths.into_iter().filter(|p| p.is_file()) {
             let bytes = std::fs::read(&path).unwrap();
-            let words: Vec<u32> = bytes
-                .chunks_exact(4)
-                .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-                .collect();
-            let found = module_layouts(&words);
+            let found = module_layouts(&le_words(&bytes));
             for (b, want) in host_layouts() {
                 assert!(
                     found.contains(&(b, want)),
