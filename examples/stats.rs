@@ -6,6 +6,7 @@
 //! cargo run --release --example stats -- [--scenes a,b|all] [--methods m,n|all]
 //!     [--mode opaque|transparent|both] [--rays N] [--rays-for name=N,…]
 //!     [--seed S] [--scene-seed S] [--eps E] [--max-steps N] [--baseline METHOD|none]
+//!     [--sphere-lipschitz window|ray]
 //! ```
 //! (add `--features parallel` to trace the rays on every core; the counts
 //! are the same). `--rays-for` gives some scenes their own ray count (the
@@ -16,12 +17,16 @@
 //! and bound evaluations, average time per ray, the steps and time ratios
 //! against the baseline, and the agreement with the dense reference
 //! (`boundtrace::tracer::stats::classify`), followed by the first
-//! disagreeing rays. Bad arguments print a message and exit with status 2.
+//! disagreeing rays. On SCALIS scenes `sphere` has a Lipschitz constant per
+//! window of the ray (default) or, with `--sphere-lipschitz ray`, one per
+//! ray (thesis Part III §1.7; `boundtrace::tracer::scalis::SphereLipschitz`).
+//! Bad arguments print a message and exit with status 2.
 
+use boundtrace::tracer::scalis::SphereLipschitz;
 use boundtrace::tracer::scenes::{self, Scene};
 use boundtrace::tracer::stats::{
     MethodStats, RaySet, ReferenceParams, enlarged, markdown_table, run_scene_method,
-    scene_reference,
+    run_scene_sphere, scene_reference,
 };
 use boundtrace::tracer::{Method, Mode, Params};
 use std::process::ExitCode;
@@ -29,7 +34,7 @@ use std::time::Instant;
 
 const USAGE: &str = "usage: stats [--scenes a,b|all] [--methods m,n|all] \
 [--mode opaque|transparent|both] [--rays N] [--rays-for name=N,...] [--seed S] [--scene-seed S] [--eps E] \
-[--max-steps N] [--baseline METHOD|none]";
+[--max-steps N] [--baseline METHOD|none] [--sphere-lipschitz window|ray]";
 
 /// Failing rays printed per method.
 const SHOWN_FAILURES: usize = 3;
@@ -45,6 +50,8 @@ struct Options {
     scene_seed: u64,
     params: Params<f64>,
     baseline: Option<Method>,
+    /// The Lipschitz constant of `sphere` on SCALIS scenes.
+    sphere_lipschitz: SphereLipschitz,
 }
 
 fn parse_list<'a>(value: &'a str, all: &[&'a str]) -> Vec<&'a str> {
@@ -70,6 +77,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
         scene_seed: scenes::DEFAULT_SEED,
         params: Params::new(),
         baseline: Some(Method::Segment),
+        sphere_lipschitz: SphereLipschitz::PerWindow,
     };
     let mut it = args.iter();
     while let Some(flag) = it.next() {
@@ -150,6 +158,13 @@ fn parse(args: &[String]) -> Result<Options, String> {
                     _ => Some(value.parse().map_err(|e| format!("`{value}`: {e}"))?),
                 }
             }
+            "--sphere-lipschitz" => {
+                o.sphere_lipschitz = match value {
+                    "window" => SphereLipschitz::PerWindow,
+                    "ray" => SphereLipschitz::PerRay,
+                    _ => return Err(format!("{flag}: `{value}` is not window or ray")),
+                }
+            }
             _ => return Err(format!("unknown option `{flag}`")),
         }
     }
@@ -177,19 +192,36 @@ fn scene_tables(scene: &Scene<f64>, o: &Options) -> Result<(), String> {
     for &mode in &o.modes {
         let mut rows: Vec<MethodStats> = Vec::new();
         for &m in &o.methods {
-            rows.push(
+            let row = if m == Method::Sphere {
+                run_scene_sphere(
+                    scene,
+                    &rays,
+                    &reference,
+                    o.sphere_lipschitz,
+                    mode,
+                    &o.params,
+                )
+            } else {
                 run_scene_method(scene, &rays, &reference, m, mode, &o.params)
-                    .map_err(|e| e.to_string())?,
-            );
+            };
+            rows.push(row.map_err(|e| e.to_string())?);
         }
         println!(
             "## {name} ({primitives} primitives), {mode:?}\n\n{} rays (seed {}), {} hit the \
-             surface (reference: {ref_s:.1} s); eps {:e}, max_steps {}\n",
+             surface (reference: {ref_s:.1} s); eps {:e}, max_steps {}{}\n",
             rays.len(),
             o.seed,
             reference.hits(),
             o.params.eps,
             o.params.max_steps,
+            if scene.name().starts_with("scalis") && o.methods.contains(&Method::Sphere) {
+                match o.sphere_lipschitz {
+                    SphereLipschitz::PerWindow => "; sphere: Lipschitz constant per window",
+                    SphereLipschitz::PerRay => "; sphere: one Lipschitz constant per ray (§1.7)",
+                }
+            } else {
+                ""
+            },
         );
         println!("{}", markdown_table(&rows, o.baseline));
         for r in rows.iter().filter(|r| !r.failures.is_empty()) {

@@ -1370,6 +1370,55 @@ pub fn run_scene_method_with_progress(
     }
 }
 
+/// [`run_scene_method`] for [`Method::Sphere`] with the Lipschitz constant
+/// of `lipschitz` on SCALIS scenes ([`crate::scalis::trace_scalis_sphere`],
+/// through per-ray primitive lists built per ray, timed with the ray; a
+/// list longer than [`SCALIS_LIST_CAPACITY`] falls back to the generic
+/// `sphere`). Other scenes have no per-ray constant: their `sphere` is
+/// [`run_scene_method`]'s.
+///
+/// # Errors
+/// As [`run_method`].
+pub fn run_scene_sphere(
+    scene: &Scene<f64>,
+    rays: &RaySet<f64>,
+    reference: &Reference<f64>,
+    lipschitz: crate::scalis::SphereLipschitz,
+    mode: Mode,
+    params: &Params<f64>,
+) -> Result<MethodStats, StatsError> {
+    let SceneField::Scalis(w) = scene.field() else {
+        return run_scene_method(scene, rays, reference, Method::Sphere, mode, params);
+    };
+    let sk = w.field();
+    let tracer = |r: &SampleRay<f64>, buf: &mut [Root<f64>]| {
+        let mut storage = [crate::scalis::PrimitiveHit::empty(); SCALIS_LIST_CAPACITY];
+        let list = crate::scalis::RayPrimitives::build(sk.segments(), &r.ray, r.span, &mut storage);
+        if list.overflowed() {
+            return trace(sk, &r.ray, r.span, Method::Sphere, mode, params, buf);
+        }
+        crate::scalis::trace_scalis_sphere(
+            sk,
+            list.hits(),
+            &r.ray,
+            r.span,
+            lipschitz,
+            mode,
+            params,
+            buf,
+        )
+    };
+    run_method_progress(
+        &tracer,
+        rays,
+        reference,
+        Method::Sphere,
+        mode,
+        params,
+        &|_| {},
+    )
+}
+
 /// The per-ray primitive list capacity of [`run_scene_method`] for SCALIS
 /// scenes (a longer list falls back to full evaluation).
 pub const SCALIS_LIST_CAPACITY: usize = 512;

@@ -44,7 +44,12 @@
 //!   on each piece with the sum of the directional Lipschitz bounds
 //!   ([`ScalisSegment::directional_lipschitz`], ch. 2 §2.1.1) of the
 //!   primitives whose support the piece crosses — instead of one global
-//!   constant that the thinnest primitive of the whole skeleton dictates.
+//!   constant that the thinnest primitive of the whole skeleton dictates
+//!   ([`SphereLipschitz::PerWindow`]). [`trace_scalis_sphere`] also runs
+//!   it with **one constant per ray** ([`SphereLipschitz::PerRay`]), the
+//!   granularity of §1.7: the sum of those bounds over every primitive
+//!   the ray crosses, each over its whole crossing (directional, so still
+//!   tighter than the thesis' isotropic bound from the smallest radius).
 //!
 //! Every other method runs the generic [`trace`](crate::trace()) on the whole
 //! skeleton.
@@ -128,10 +133,16 @@ pub fn trace_scalis<T: Real, S: AsRef<[ScalisSegment<T>]>>(
         Method::ScalisQuadratic => Split::Oracle,
         Method::Interval => Split::Bisection,
         Method::Sphere => {
-            if check_segments(segments).is_err() {
-                return unsupported;
-            }
-            return sphere_per_ray(skeleton, hits, ray, span, mode, params, roots);
+            return trace_scalis_sphere(
+                skeleton,
+                hits,
+                ray,
+                span,
+                SphereLipschitz::PerWindow,
+                mode,
+                params,
+                roots,
+            );
         }
         _ => return trace(skeleton, ray, span, method, mode, params, roots),
     };
@@ -166,6 +177,55 @@ pub fn trace_scalis<T: Real, S: AsRef<[ScalisSegment<T>]>>(
         }
     });
     out.unwrap_or_else(|| w.done(Status::Finished, span[1]))
+}
+
+/// Where the Lipschitz constant of SCALIS sphere tracing
+/// ([`trace_scalis_sphere`]) is valid.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum SphereLipschitz {
+    /// One constant per window of the ray between two support entries or
+    /// exits: the sum of the directional bounds of the primitives whose
+    /// support the window crosses, over the window (what `sphere` in
+    /// [`trace_scalis`] uses).
+    PerWindow,
+    /// One constant for the whole ray (thesis Part III §1.7, "per primitive
+    /// and per ray"): the sum over every primitive the ray crosses on the
+    /// span of its directional bound over its whole crossing.
+    PerRay,
+}
+
+/// Sphere tracing of a SCALIS skeleton through the ray's primitive list,
+/// with the Lipschitz constant of `lipschitz` (module docs); empty space
+/// between supports is skipped in both cases. `hits`, `span`, `mode`,
+/// `params` and `roots` are as for [`trace_scalis`], whose `sphere` is
+/// this function with [`SphereLipschitz::PerWindow`].
+///
+/// [`Status::Unsupported`] for invalid parameters or span, an empty root
+/// buffer, or a skeleton with an infinite (Cauchy) support.
+#[allow(clippy::too_many_arguments)]
+pub fn trace_scalis_sphere<T: Real, S: AsRef<[ScalisSegment<T>]>>(
+    skeleton: &ScalisSkeleton<T, S>,
+    hits: &[PrimitiveHit<T>],
+    ray: &Ray<T>,
+    span: [T; 2],
+    lipschitz: SphereLipschitz,
+    mode: Mode,
+    params: &Params<T>,
+    roots: &mut [Root<T>],
+) -> Trace<T> {
+    if params.validate().is_err()
+        || !(span[0] <= span[1])
+        || roots.is_empty()
+        || check_segments(skeleton.segments()).is_err()
+    {
+        return Trace {
+            roots: 0,
+            status: Status::Unsupported,
+            t_reached: span[0],
+            stats: RayStats::default(),
+        };
+    }
+    sphere_per_ray(skeleton, hits, ray, span, lipschitz, mode, params, roots)
 }
 
 /// [`trace_scalis`] that builds the ray's primitive list in `storage`
@@ -659,13 +719,15 @@ impl<T: Real> Field<T> for Window<'_, T> {
     }
 }
 
-/// Sphere tracing with per-ray, per-window Lipschitz bounds (§1.7; module
-/// docs).
+/// Sphere tracing with per-ray Lipschitz bounds, per window or per ray
+/// (§1.7; module docs).
+#[allow(clippy::too_many_arguments)]
 fn sphere_per_ray<T: Real, S: AsRef<[ScalisSegment<T>]>>(
     skeleton: &ScalisSkeleton<T, S>,
     hits: &[PrimitiveHit<T>],
     ray: &Ray<T>,
     span: [T; 2],
+    scope: SphereLipschitz,
     mode: Mode,
     params: &Params<T>,
     roots: &mut [Root<T>],
@@ -680,6 +742,22 @@ fn sphere_per_ray<T: Real, S: AsRef<[ScalisSegment<T>]>>(
     let speed_lo = (Interval::point(x).sqr() + Interval::point(y).sqr() + Interval::point(z).sqr())
         .sqrt()
         .lo();
+    // the sum over `hs` of each one's directional bound on its part of
+    // `[a, b]`, per unit of `t`
+    let lipschitz_on = |hs: &[PrimitiveHit<T>], a: T, b: T| {
+        let mut lip = Interval::point(T::ZERO);
+        for h in hs {
+            if h.entry <= b && h.exit >= a {
+                let (u, v) = (a.max(h.entry), b.min(h.exit));
+                lip = lip + Interval::point(ctx.seg(h).directional_lipschitz(ray, u, v));
+            }
+        }
+        round::div_up(lip.hi(), speed_lo)
+    };
+    let per_ray = match scope {
+        SphereLipschitz::PerRay => Some(lipschitz_on(hits, span[0], span[1])),
+        SphereLipschitz::PerWindow => None,
+    };
     let mut n = 0usize;
     let mut stats = RayStats::default();
     let mut out: Option<Trace<T>> = None;
@@ -691,24 +769,20 @@ fn sphere_per_ray<T: Real, S: AsRef<[ScalisSegment<T>]>>(
         let rh = &hits[i..j];
         let mut a = r0;
         while a < r1 {
-            // the next event (an entry or exit) after a
+            // the next event (an entry or exit) after a; one window per
+            // region with the per-ray constant
             let mut b = r1;
-            for h in rh {
-                if h.entry > a && h.entry < b {
-                    b = h.entry;
-                }
-                if h.exit > a && h.exit < b {
-                    b = h.exit;
-                }
-            }
-            let mut lip = Interval::point(T::ZERO);
-            for h in rh {
-                if h.entry <= b && h.exit >= a {
-                    let (u, v) = (a.max(h.entry), b.min(h.exit));
-                    lip = lip + Interval::point(ctx.seg(h).directional_lipschitz(ray, u, v));
+            if per_ray.is_none() {
+                for h in rh {
+                    if h.entry > a && h.entry < b {
+                        b = h.entry;
+                    }
+                    if h.exit > a && h.exit < b {
+                        b = h.exit;
+                    }
                 }
             }
-            let lipschitz = round::div_up(lip.hi(), speed_lo);
+            let lipschitz = per_ray.unwrap_or_else(|| lipschitz_on(rh, a, b));
             let left = params.max_steps.saturating_sub(stats.steps);
             let (Ok(p), true) = (params.with_max_steps(left.max(1)), left > 0) else {
                 out = Some(Trace {
@@ -880,6 +954,71 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// The per-ray constant (§1.7) finds the same roots as the per-window
+    /// constants, in at least as many steps on these rays (its constant
+    /// bounds every window's).
+    #[test]
+    fn per_ray_sphere_finds_every_root_in_more_steps() {
+        let sk = skeleton();
+        let params = Params::new();
+        let span = [0.0, 6.0];
+        let mut more = 0;
+        for (o, d) in [
+            ([-2.0, 0.05, 0.02], [1.0, 0.0, 0.0]),
+            ([-2.0, 0.9, 0.01], [1.0, 0.1, 0.0]),
+            ([-2.0, -0.5, 0.1], [1.0, 0.02, 0.0]),
+        ] {
+            let ray = Ray::new(o, d);
+            let expect = sampled_roots(&sk, &ray, span);
+            let mut store = [PrimitiveHit::empty(); 8];
+            let list = RayPrimitives::build(sk.segments(), &ray, span, &mut store);
+            let mut steps = [0; 2];
+            for (k, scope) in [SphereLipschitz::PerWindow, SphereLipschitz::PerRay]
+                .into_iter()
+                .enumerate()
+            {
+                let mut buf = [NONE; 16];
+                let tr = trace_scalis_sphere(
+                    &sk,
+                    list.hits(),
+                    &ray,
+                    span,
+                    scope,
+                    Mode::Transparent,
+                    &params,
+                    &mut buf,
+                );
+                assert_eq!(tr.status, Status::Finished, "{scope:?}");
+                let got = &buf[..tr.roots as usize];
+                assert_eq!(got.len(), expect.len(), "{scope:?}: {got:?} vs {expect:?}");
+                for (g, e) in got.iter().zip(&expect) {
+                    assert!(
+                        (g.t - e.0).abs() <= 2.0 * params.eps,
+                        "{scope:?}: {g:?} vs {e:?}"
+                    );
+                    assert_eq!(g.side, e.1, "{scope:?}");
+                }
+                steps[k] = tr.stats.steps;
+            }
+            assert!(steps[1] >= steps[0], "{steps:?}");
+            more += usize::from(steps[1] > steps[0]);
+        }
+        assert!(more > 0, "the per-ray constant never cost a step more");
+        // invalid input is refused, not traced
+        let ray = Ray::new([-2.0, 0.0, 0.0], [1.0, 0.0, 0.0]);
+        let tr = trace_scalis_sphere(
+            &sk,
+            &[],
+            &ray,
+            [1.0, 0.0],
+            SphereLipschitz::PerRay,
+            Mode::Opaque,
+            &params,
+            &mut [NONE; 1],
+        );
+        assert_eq!(tr.status, Status::Unsupported);
     }
 
     #[test]
