@@ -350,6 +350,9 @@ struct Column<'a> {
     len: f64,
     buf: &'a mut [u8],
     stride: usize,
+    /// The voxels set so far lie in `set[0]..set[1]` (empty: `set[0] ≥
+    /// set[1]`).
+    set: [usize; 2],
 }
 
 impl Column<'_> {
@@ -361,6 +364,7 @@ impl Column<'_> {
     #[inline]
     fn set(&mut self, k: usize) {
         self.buf[k * self.stride] = 1;
+        self.set = [self.set[0].min(k), self.set[1].max(k + 1)];
     }
     /// The first centre `≥ t` (may be `slices`).
     fn first_at_or_after(&self, t: f64) -> usize {
@@ -420,9 +424,15 @@ fn run<S: AsRef<[ScalisSegment<f64>]>>(
             // slice by slice into the stack (contiguous writes)
             let bw = (ex - bx) as usize;
             let mut row = vec![0u8; bw * slices];
+            // the slices of `row` that hold a set voxel (the rest is 0),
+            // so that only those are cleared and copied: the stack is
+            // zeroed already, and most of it stays so (pages never written)
+            let mut filled = [slices, 0];
             for y in by..ey {
-                row.fill(0);
-                let mut any = false;
+                if filled[0] < filled[1] {
+                    row[filled[0] * bw..filled[1] * bw].fill(0);
+                }
+                filled = [slices, 0];
                 for x in bx..ex {
                     let px = lo[0] + (f64::from(x) + 0.5) * dx;
                     let py = lo[1] + (f64::from(y) + 0.5) * dy;
@@ -432,12 +442,12 @@ fn run<S: AsRef<[ScalisSegment<f64>]>>(
                     if list.hits().is_empty() {
                         continue;
                     }
-                    any = true;
                     let mut col = Column {
                         slices,
                         len: span[1],
                         buf: &mut row[(x - bx) as usize..],
                         stride: bw,
+                        set: [slices, 0],
                     };
                     match how {
                         How::Classify => {
@@ -466,13 +476,12 @@ fn run<S: AsRef<[ScalisSegment<f64>]>>(
                             ));
                         }
                     }
+                    filled = [filled[0].min(col.set[0]), filled[1].max(col.set[1])];
                 }
-                if any {
-                    let base = y as usize * w as usize + bx as usize;
-                    for k in 0..slices {
-                        let dst = k * plane + base;
-                        voxels[dst..dst + bw].copy_from_slice(&row[k * bw..(k + 1) * bw]);
-                    }
+                let base = y as usize * w as usize + bx as usize;
+                for k in filled[0]..filled[1] {
+                    let dst = k * plane + base;
+                    voxels[dst..dst + bw].copy_from_slice(&row[k * bw..(k + 1) * bw]);
                 }
                 on_columns(bw as u64);
             }
@@ -1433,6 +1442,7 @@ mod tests {
             len: 1.3,
             buf: &mut buf,
             stride: 1,
+            set: [7, 0],
         };
         for k in 0..7 {
             let c = col.centre(k);
