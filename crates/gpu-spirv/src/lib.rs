@@ -76,16 +76,17 @@
 //! module `NoContraction` before the driver sees it, so that no driver
 //! fuses or reassociates them. Quotients of `f32`s are computed in `f64`
 //! and rounded once, which gives the correctly rounded quotient under
-//! Vulkan's 2.5-ulp division; square roots are the driver's GLSL `Sqrt`
-//! (rust-gpu replaces `libm`'s `sqrtf` with it), correctly rounded on
-//! lavapipe ([`outward_probe`] checks the bounds against exact results)
-//! but only a few ulp by Vulkan's precision table, so `ia-core`'s one-step
-//! margin is unproven on other drivers (NVIDIA 580: errors up to 0.92 ulp
-//! seen, every bound still enclosing; issue 9, open; the same holds for
-//! `exp`, used by Gaussian kernels, which the GPU scenes do not use). On
-//! lavapipe the GPU thus computes the CPU's bounds, bit for bit
-//! ([`arith_probe`], [`outward_probe`] and the difftests check it on the
-//! driver in use).
+//! Vulkan's 2.5-ulp division. Square roots of `f32`s are rounded by
+//! `ia-core` itself on SPIR-V (the driver's GLSL `Sqrt`, only a few ulp by
+//! Vulkan's precision table and 0.92 ulp off on NVIDIA 580, is just the
+//! estimate: one Newton step in `f64` and an exact midpoint test give the
+//! correctly rounded root), so they equal the CPU's on every driver with
+//! IEEE `f64` arithmetic ([`outward_probe`] checks the bounds against
+//! exact results and the CPU's). `exp`, used by Gaussian kernels, which
+//! the GPU scenes do not use, is still the driver's, with an unproven
+//! margin (issue 9, open). On lavapipe the GPU thus computes the CPU's
+//! bounds, bit for bit ([`arith_probe`], [`outward_probe`] and the
+//! difftests check it on the driver in use).
 //! Subnormals are assumed preserved (Vulkan allows flushing them).
 
 use boundtrace_fields::PointBlob;
@@ -397,8 +398,12 @@ pub struct GpuTracer {
     /// use (a driver takes about as long as for `trace_sphere`: only the
     /// renders of that method and kind pay).
     legs: [OnceLock<Result<wgpu::ComputePipeline, String>>; LEG_MODULES],
-    /// Held while a pipeline created on first use compiles.
+    /// Held while a pipeline created on first use compiles, and, on a CPU
+    /// adapter, during a pipeline's first dispatch (lavapipe compiles its
+    /// machine code then, in gigabytes: one at a time).
     compiling: std::sync::Mutex<()>,
+    /// The pipelines (by address in `self`) dispatched at least once.
+    dispatched: std::sync::Mutex<Vec<usize>>,
     /// `trace_pixels`' pipeline (every method), created on first use: a
     /// driver may take long or fail to compile it (lavapipe runs out of
     /// memory), so only renders that need it pay.
@@ -569,6 +574,7 @@ impl GpuTracer {
             sphere: OnceLock::new(),
             legs: Default::default(),
             compiling: std::sync::Mutex::new(()),
+            dispatched: std::sync::Mutex::new(Vec::new()),
             general: OnceLock::new(),
         })
     }
@@ -925,6 +931,23 @@ impl GpuTracer {
         }
         // The leg methods run in legs: dispatch until every
         // pixel is done.
+        // A CPU adapter (lavapipe) compiles the pipeline's machine code at
+        // its first dispatch, in several gigabytes (BENCHMARKS.md "GPU",
+        // session 13): one such first dispatch at a time, and the memory
+        // freed after it handed back.
+        let cpu = self.adapter.device_type == wgpu::DeviceType::Cpu;
+        let key = std::ptr::from_ref(pipeline) as usize;
+        let first = cpu
+            && !self
+                .dispatched
+                .lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner)
+                .contains(&key);
+        let one_at_a_time = first.then(|| {
+            self.compiling
+                .lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner)
+        });
         let mut dispatches = 0u32;
         let mut progress = None;
         let start = Instant::now();
@@ -972,6 +995,14 @@ impl GpuTracer {
             progress = Some(now);
         }
         let dispatch = start.elapsed();
+        if first {
+            release_freed_memory();
+            self.dispatched
+                .lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner)
+                .push(key);
+        }
+        drop(one_at_a_time);
         let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
         enc.copy_buffer_to_buffer(&outs[0], 0, &backs[0], 0, pix_bytes);
         enc.copy_buffer_to_buffer(&outs[1], 0, &backs[1], 0, hit_bytes);
@@ -1027,9 +1058,10 @@ async fn tracing_pipeline(
 }
 
 /// Hands the memory the allocator holds freed back to the system: a driver
-/// that compiles a large pipeline on the CPU (lavapipe) frees gigabytes
-/// that glibc keeps in its arenas otherwise, so that each further
-/// pipeline adds to the peak.
+/// that compiles a large pipeline on the CPU (lavapipe: its NIR when the
+/// pipeline is created, its machine code at the first dispatch) frees
+/// gigabytes that glibc keeps in its arenas otherwise, so that each
+/// further pipeline adds to the peak.
 fn release_freed_memory() {
     #[cfg(all(target_os = "linux", target_env = "gnu"))]
     #[allow(unsafe_code)]

@@ -26,7 +26,7 @@ use boundtrace_tracer::camera::Camera;
 use boundtrace_tracer::render::{Frame, RenderSettings, render_serial};
 use boundtrace_tracer::scenes::{DEFAULT_SEED, Scene};
 use boundtrace_tracer::{Method, Mode};
-use std::sync::OnceLock;
+use std::sync::{Mutex, MutexGuard, Once, PoisonError};
 
 const SIZE: u32 = 32;
 
@@ -49,15 +49,35 @@ fn in_ci() -> bool {
     std::env::var("CI").is_ok_and(|v| v == "true" || v == "1")
 }
 
-/// The tracer shared by every test of this binary: the driver compiles
-/// the `trace_sphere` pipeline once (lavapipe takes minutes and gigabytes
-/// per compilation; tests in parallel would each start one).
-fn gpu() -> Option<&'static GpuTracer> {
-    static GPU: OnceLock<Option<GpuTracer>> = OnceLock::new();
-    GPU.get_or_init(|| match GpuTracer::new() {
+/// A tracer of one test: GPU tests run one at a time, each with a tracer
+/// of its own that is dropped (with its pipelines) before the next test
+/// starts. On a CPU adapter with a cold shader cache, lavapipe holds
+/// several gigabytes per compiled pipeline until the pipeline is dropped
+/// (BENCHMARKS.md "GPU", session 13): a tracer shared by every test, or
+/// tests in parallel, passed 20 GB.
+struct Gpu {
+    tracer: GpuTracer,
+    _one: MutexGuard<'static, ()>,
+}
+
+impl std::ops::Deref for Gpu {
+    type Target = GpuTracer;
+    fn deref(&self) -> &GpuTracer {
+        &self.tracer
+    }
+}
+
+fn gpu() -> Option<Gpu> {
+    static ONE: Mutex<()> = Mutex::new(());
+    static SHOWN: Once = Once::new();
+    let one = ONE.lock().unwrap_or_else(PoisonError::into_inner);
+    match GpuTracer::new() {
         Ok(g) => {
-            eprintln!("GPU difftests on {:?}", g.adapter_info());
-            Some(g)
+            SHOWN.call_once(|| eprintln!("GPU difftests on {:?}", g.adapter_info()));
+            Some(Gpu {
+                tracer: g,
+                _one: one,
+            })
         }
         Err(e @ (GpuError::NoAdapter(_) | GpuError::ShaderMissing { .. })) if in_ci() => {
             panic!("CI must run the GPU difftests, but: {e}")
@@ -67,8 +87,7 @@ fn gpu() -> Option<&'static GpuTracer> {
             None
         }
         Err(e) => panic!("GPU error: {e}"),
-    })
-    .as_ref()
+    }
 }
 
 /// Compares two frames; `Err` with a description when a threshold fails.
@@ -132,34 +151,45 @@ fn compare(cpu: &Frame<f32>, gpu: &Frame<f32>) -> Result<String, String> {
     if ok { Ok(summary) } else { Err(summary) }
 }
 
-fn run(mode: Mode, methods: &[Method], scenes: &[&str]) {
-    let Some(gpu) = gpu() else { return };
+/// Every pixel of `scenes` × `methods` × both modes against the CPU, one
+/// tracer per scene (so that one pipeline per tracer is compiled for a
+/// single method) and, with `legs`, [`short_legs_match`] with the same
+/// pipelines.
+fn run(methods: &[Method], scenes: &[&str], legs: bool) {
     let mut failures = Vec::new();
     for name in scenes {
+        let Some(gpu) = gpu() else { return };
         let scene = Scene::<f32>::build(name, DEFAULT_SEED).unwrap();
         let data = GpuScene::from_scene(&scene).unwrap();
         let camera = Camera::framing(scene.bounds(), [0.3, -0.4, -1.0], 40.0, 1.0).unwrap();
         for &method in methods {
-            let settings = RenderSettings::new(SIZE, SIZE, method)
-                .unwrap()
-                .with_mode(mode)
-                .with_max_roots(MAX_GPU_ROOTS)
-                .unwrap();
-            let cpu = render_serial(scene.field(), &camera, scene.bounds(), &settings).unwrap();
-            let (g, dispatches) = gpu.render_in_legs(&data, &camera, &settings, 0).unwrap();
-            let lavapipe = gpu.adapter_info().device_type == wgpu::DeviceType::Cpu;
-            if method == Method::Sphere && *name == "blobs-sum" && lavapipe {
-                // lavapipe's loop limit cuts the busiest rays: legs must
-                // have run (and still match).
-                assert!(dispatches > 1, "lavapipe traced {name} in one dispatch");
-            }
-            match compare(&cpu, &g) {
-                Ok(s) => {
-                    eprintln!("ok   {name:20} {method:20} {mode:?}: {s}; {dispatches} dispatches")
+            for mode in [Mode::Opaque, Mode::Transparent] {
+                let settings = RenderSettings::new(SIZE, SIZE, method)
+                    .unwrap()
+                    .with_mode(mode)
+                    .with_max_roots(MAX_GPU_ROOTS)
+                    .unwrap();
+                let cpu = render_serial(scene.field(), &camera, scene.bounds(), &settings).unwrap();
+                let (g, dispatches) = gpu.render_in_legs(&data, &camera, &settings, 0).unwrap();
+                let lavapipe = gpu.adapter_info().device_type == wgpu::DeviceType::Cpu;
+                if method == Method::Sphere && *name == "blobs-sum" && lavapipe {
+                    // lavapipe's loop limit cuts the busiest rays: legs must
+                    // have run (and still match).
+                    assert!(dispatches > 1, "lavapipe traced {name} in one dispatch");
                 }
-                Err(s) => {
-                    eprintln!("FAIL {name:20} {method:20} {mode:?}: {s}");
-                    failures.push(format!("{name} {method} {mode:?}: {s}"));
+                match compare(&cpu, &g) {
+                    Ok(s) => eprintln!(
+                        "ok   {name:20} {method:20} {mode:?}: {s}; {dispatches} dispatches"
+                    ),
+                    Err(s) => {
+                        eprintln!("FAIL {name:20} {method:20} {mode:?}: {s}");
+                        failures.push(format!("{name} {method} {mode:?}: {s}"));
+                    }
+                }
+                if legs {
+                    if let Err(s) = short_legs_match(&gpu, &data, &camera, name, method, mode) {
+                        failures.push(s);
+                    }
                 }
             }
         }
@@ -169,6 +199,53 @@ fn run(mode: Mode, methods: &[Method], scenes: &[&str]) {
         "GPU/CPU differences:\n{}",
         failures.join("\n")
     );
+}
+
+/// Resumption on the GPU: legs of at most 7 steps per dispatch give the
+/// frame of unlimited legs, bit for bit (records, roots and normals), at
+/// 16 × 16; `Err` with the summary otherwise.
+fn short_legs_match(
+    gpu: &GpuTracer,
+    data: &GpuScene,
+    camera: &Camera<f32>,
+    name: &str,
+    method: Method,
+    mode: Mode,
+) -> Result<(), String> {
+    let settings = RenderSettings::new(16, 16, method)
+        .unwrap()
+        .with_mode(mode)
+        .with_max_roots(MAX_GPU_ROOTS)
+        .unwrap();
+    let (whole, d0) = gpu.render_in_legs(data, camera, &settings, 0).unwrap();
+    let (legs, d7) = gpu.render_in_legs(data, camera, &settings, 7).unwrap();
+    let max_steps = (0..16 * 16)
+        .map(|i| whole.pixel(i % 16, i / 16).unwrap().trace.stats.steps)
+        .max()
+        .unwrap();
+    let mut differ = 0;
+    for y in 0..16 {
+        for x in 0..16 {
+            let (a, b) = (whole.pixel(x, y).unwrap(), legs.pixel(x, y).unwrap());
+            let same_hits = whole.hits(x, y).len() == legs.hits(x, y).len()
+                && whole.hits(x, y).iter().zip(legs.hits(x, y)).all(|(p, q)| {
+                    p.t.to_bits() == q.t.to_bits()
+                        && p.side == q.side
+                        && p.normal.map(f32::to_bits) == q.normal.map(f32::to_bits)
+                });
+            differ += usize::from(a != b || !same_hits);
+        }
+    }
+    let summary = format!(
+        "{name} {method} {mode:?}: {differ} of 256 pixels differ; {d0} dispatches unlimited, \
+         {d7} in legs of 7 steps (max {max_steps} steps)"
+    );
+    eprintln!("legs {summary}");
+    if differ > 0 || d7 < max_steps.div_ceil(7) {
+        Err(format!("legs: {summary}"))
+    } else {
+        Ok(())
+    }
 }
 
 /// Sphere tracing (the module's `trace_sphere` entry point, run in CI on
@@ -182,8 +259,7 @@ fn run(mode: Mode, methods: &[Method], scenes: &[&str]) {
 /// than one dispatch on a CPU adapter) and still matches the CPU.
 #[test]
 fn sphere_matches_the_cpu_in_both_modes() {
-    run(Mode::Opaque, &[Method::Sphere], &SCENES);
-    run(Mode::Transparent, &[Method::Sphere], &SCENES);
+    run(&[Method::Sphere], &SCENES, true);
 }
 
 /// Segment tracing (the segment modules' `trace_segment_*` entry points, in legs like
@@ -191,8 +267,7 @@ fn sphere_matches_the_cpu_in_both_modes() {
 /// and transparent, with the issue's thresholds.
 #[test]
 fn segment_matches_the_cpu_in_both_modes() {
-    run(Mode::Opaque, &[Method::Segment], &SCENES);
-    run(Mode::Transparent, &[Method::Segment], &SCENES);
+    run(&[Method::Segment], &SCENES, true);
 }
 
 /// Forward linear inclusions from Taylor bounds (the leg modules'
@@ -200,73 +275,14 @@ fn segment_matches_the_cpu_in_both_modes() {
 /// both scenes, opaque and transparent, with the issue's thresholds.
 #[test]
 fn linear_taylor_matches_the_cpu_in_both_modes() {
-    run(Mode::Opaque, &[Method::LinearTaylor], &SCENES);
-    run(Mode::Transparent, &[Method::LinearTaylor], &SCENES);
+    run(&[Method::LinearTaylor], &SCENES, true);
 }
 
 /// [`linear_taylor_matches_the_cpu_in_both_modes`] for forward quadratic
 /// inclusions (`trace_quadratic_taylor_*`).
 #[test]
 fn quadratic_taylor_matches_the_cpu_in_both_modes() {
-    run(Mode::Opaque, &[Method::QuadraticTaylor], &SCENES);
-    run(Mode::Transparent, &[Method::QuadraticTaylor], &SCENES);
-}
-
-/// Resumption on the GPU: every leg method in legs of at most 7
-/// steps per dispatch give the frames of unlimited legs, bit for bit
-/// (records, roots and normals), in both modes.
-#[test]
-fn short_legs_match_unlimited_legs() {
-    let Some(gpu) = gpu() else { return };
-    let mut failures = Vec::new();
-    for name in SCENES {
-        let scene = Scene::<f32>::build(name, DEFAULT_SEED).unwrap();
-        let data = GpuScene::from_scene(&scene).unwrap();
-        let camera = Camera::framing(scene.bounds(), [0.3, -0.4, -1.0], 40.0, 1.0).unwrap();
-        for (method, mode) in [
-            Method::Sphere,
-            Method::Segment,
-            Method::LinearTaylor,
-            Method::QuadraticTaylor,
-        ]
-        .into_iter()
-        .flat_map(|m| [(m, Mode::Opaque), (m, Mode::Transparent)])
-        {
-            let settings = RenderSettings::new(16, 16, method)
-                .unwrap()
-                .with_mode(mode)
-                .with_max_roots(MAX_GPU_ROOTS)
-                .unwrap();
-            let (whole, d0) = gpu.render_in_legs(&data, &camera, &settings, 0).unwrap();
-            let (legs, d7) = gpu.render_in_legs(&data, &camera, &settings, 7).unwrap();
-            let max_steps = (0..16 * 16)
-                .map(|i| whole.pixel(i % 16, i / 16).unwrap().trace.stats.steps)
-                .max()
-                .unwrap();
-            let mut differ = 0;
-            for y in 0..16 {
-                for x in 0..16 {
-                    let (a, b) = (whole.pixel(x, y).unwrap(), legs.pixel(x, y).unwrap());
-                    let same_hits = whole.hits(x, y).len() == legs.hits(x, y).len()
-                        && whole.hits(x, y).iter().zip(legs.hits(x, y)).all(|(p, q)| {
-                            p.t.to_bits() == q.t.to_bits()
-                                && p.side == q.side
-                                && p.normal.map(f32::to_bits) == q.normal.map(f32::to_bits)
-                        });
-                    differ += usize::from(a != b || !same_hits);
-                }
-            }
-            let summary = format!(
-                "{name} {method} {mode:?}: {differ} of 256 pixels differ; {d0} dispatches unlimited, \
-                 {d7} in legs of 7 steps (max {max_steps} steps)"
-            );
-            eprintln!("{summary}");
-            if differ > 0 || d7 < max_steps.div_ceil(7) {
-                failures.push(summary);
-            }
-        }
-    }
-    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    run(&[Method::QuadraticTaylor], &SCENES, true);
 }
 
 #[test]
@@ -317,24 +333,11 @@ const TRACE_PIXELS: &str = "needs the trace_pixels entry point (BOUNDTRACE_SHADE
      scripts/build-spirv.sh) and a driver that compiles it; lavapipe inlines every call and runs \
      out of memory on it (BENCHMARKS.md GPU)";
 
+/// Every marching method, both scenes, both modes (all roots in
+/// transparent mode): needs `trace_pixels`.
 #[test]
 #[ignore = "needs trace_pixels (BOUNDTRACE_SHADER_FEATURES=trace) and a driver that compiles it: lavapipe cannot (BENCHMARKS.md GPU)"]
-fn opaque_every_scene_and_method_matches_the_cpu() {
+fn every_scene_and_method_matches_the_cpu_in_both_modes() {
     eprintln!("{TRACE_PIXELS}");
-    run(Mode::Opaque, &METHODS, &SCENES);
-}
-
-#[test]
-#[ignore = "needs trace_pixels (BOUNDTRACE_SHADER_FEATURES=trace) and a driver that compiles it: lavapipe cannot (BENCHMARKS.md GPU)"]
-fn transparent_all_roots_match_the_cpu() {
-    eprintln!("{TRACE_PIXELS}");
-    run(
-        Mode::Transparent,
-        &[
-            Method::Segment,
-            Method::QuadraticMixed,
-            Method::LinearBottomUp,
-        ],
-        &["blobs-sum"],
-    );
+    run(&METHODS, &SCENES, false);
 }

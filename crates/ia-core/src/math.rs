@@ -32,13 +32,15 @@ pub(crate) const TRANSCENDENTAL_ULPS: u32 = 2;
 pub(crate) const TRANSCENDENTAL_ULPS: u32 = 8;
 
 /// Float steps a `sqrt` result is widened by: it is correctly rounded on
-/// CPUs (IEEE 754). On SPIR-V rust-gpu 0.11 replaces `libm`'s
-/// `sqrtf`/`sqrt` with the driver's GLSL.std.450 `Sqrt`, whose Vulkan
-/// precision is only inherited from `1 / inversesqrt(x)` (a few ulp): one
-/// step is sound where the driver's square root is correctly rounded, as
-/// on lavapipe (`boundtrace-gpu`'s `outward_probe` checks the bounds
-/// against exact results), and an open soundness gap on other drivers
-/// (issue 9).
+/// CPUs (IEEE 754), and for `f32` on SPIR-V too: there [`sqrt_f32`]
+/// rounds a refined `f64` root itself instead of trusting the driver's
+/// `f32` `Sqrt` (whose Vulkan precision is only inherited from
+/// `1 / inversesqrt(x)`; NVIDIA's driver 580 was measured up to 0.92 ulp
+/// off). `boundtrace-gpu`'s `outward_probe` test checks the bounds
+/// against exact results on the driver in use. An `f64` square root on
+/// SPIR-V is still the driver's GLSL.std.450 `Sqrt` (rust-gpu 0.11
+/// replaces `libm::sqrt` with it): one step is unproven there; the GPU
+/// tracer computes in `f32`.
 pub(crate) const SQRT_ULPS: u32 = 1;
 
 /// Transcendental functions of a float type, selected by feature once.
@@ -75,7 +77,7 @@ pub trait Math: Copy {
 }
 
 macro_rules! impl_math {
-    ($t:ty, $exp:ident, $ln:ident, $sin:ident, $cos:ident, $pow:ident, $sqrt:ident, $div:ident, $steps:ident) => {
+    ($t:ty, $exp:ident, $ln:ident, $sin:ident, $cos:ident, $pow:ident, $sqrt:ident, $sqrt_spirv:path, $div:ident, $steps:ident) => {
         #[cfg(feature = "libm")]
         impl Math for $t {
             #[cfg_attr(not(target_arch = "spirv"), inline)]
@@ -100,7 +102,14 @@ macro_rules! impl_math {
             }
             #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn m_sqrt(self) -> Self {
-                libm::$sqrt(self)
+                #[cfg(target_arch = "spirv")]
+                {
+                    $sqrt_spirv(self)
+                }
+                #[cfg(not(target_arch = "spirv"))]
+                {
+                    libm::$sqrt(self)
+                }
             }
             const DIV_STEPS: u32 = $steps;
             #[cfg_attr(not(target_arch = "spirv"), inline)]
@@ -152,10 +161,102 @@ impl_math!(
     cosf,
     powf,
     sqrtf,
+    sqrt_f32,
     f32_div,
     F32_DIV_STEPS
 );
-impl_math!(f64, exp, log, sin, cos, pow, sqrt, f64_div, F64_DIV_STEPS);
+impl_math!(
+    f64,
+    exp,
+    log,
+    sin,
+    cos,
+    pow,
+    sqrt,
+    libm::sqrt,
+    f64_div,
+    F64_DIV_STEPS
+);
+
+/// The correctly rounded square root of an `f32`, computed in `f64`: what
+/// [`Math::m_sqrt`] of `f32` is on SPIR-V.
+///
+/// rust-gpu 0.11 replaces `libm`'s `sqrtf` with the driver's GLSL.std.450
+/// `Sqrt`, whose Vulkan precision is only inherited from
+/// `1 / inversesqrt(x)` (NVIDIA's driver 580 was measured up to 0.92 ulp
+/// off, BENCHMARKS.md "GPU", session 12). So the GPU rounds the root
+/// itself, the same on every driver as on the CPU ([`sqrt_f32_from`]):
+/// the driver's `f32` `Sqrt` (`libm::sqrtf`, Vulkan: a few ulp) as an
+/// estimate, one Newton step in `f64`, then an exact correction to the
+/// nearest `f32`. On the CPU `sqrtf` is already correctly rounded, so this
+/// changes nothing there (the tests run it on the CPU).
+#[cfg_attr(not(target_arch = "spirv"), allow(dead_code))]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
+pub(crate) fn sqrt_f32(x: f32) -> f32 {
+    #[cfg(feature = "libm")]
+    let estimate = libm::sqrtf(x);
+    #[cfg(not(feature = "libm"))]
+    let estimate = x.sqrt();
+    sqrt_f32_from(x, estimate as f64)
+}
+
+/// The `f32` nearest to `√x` from an estimate `y` of it in `f64`, for any
+/// estimate within a relative `2⁻¹²` of the root (about 2,000 `f32` steps;
+/// Vulkan's `f32` `Sqrt` is within a few):
+///
+/// 1. one Newton step `y ← (y + x/y)/2` squares the relative error (below
+///    `2⁻²⁵`, a quarter of an `f32` step), so `y` rounded to `f32` is the
+///    rounded root or one of its neighbours;
+/// 2. the correction: `s` is the rounded root exactly when the midpoints
+///    `m±` between `s` and its neighbours bracket the root, `m₋² < x <
+///    m₊²`. A midpoint of two `f32`s has 25 significant bits, its square
+///    50, so the squares are exact in `f64` and the tests are exact (a
+///    midpoint's square is never an `f32`: no ties). One step each way.
+///
+/// **No branches and no loops**: the choices are made by integer
+/// arithmetic on the bits, so each of the ~160 inlined copies in a shader
+/// stays one basic block (and llvmpipe counts loop iterations against a
+/// budget). Exactness assumes correctly rounded `f64` `+`, `×` and `÷` and
+/// conversions, as IEEE 754 and the drivers we know give (the quotient
+/// [`Math::m_div`] relies on the same). `x` of `±0`, `+∞`, NaN or a
+/// negative `x`, or an estimate that is not positive and finite, gives
+/// `y` rounded to `f32` (the IEEE result when `y` is the IEEE root). A
+/// driver that flushes subnormal `f32`s to zero (Vulkan allows it) makes
+/// the root of a subnormal `x` zero: that case is not covered. Tested
+/// against the correctly rounded root on the CPU; on the GPU by
+/// `boundtrace-gpu`'s `outward_probe` test.
+#[cfg_attr(not(target_arch = "spirv"), allow(dead_code))]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
+pub(crate) fn sqrt_f32_from(x: f32, y: f64) -> f32 {
+    let xd = x as f64;
+    // `&`, not `&&`: no branch
+    let ok = (x > 0.0) & (x < f32::INFINITY) & (y > 0.0) & (y < f64::INFINITY);
+    let refined = 0.5 * (y + xd / y);
+    // `refined` where `ok`, else `y`: selected on the bits (rust-gpu
+    // compiles an `if` into a branch)
+    let mask = 0u32.wrapping_sub(u32::from(ok));
+    let s = f32::from_bits(((refined as f32).to_bits() & mask) | ((y as f32).to_bits() & !mask));
+    correct_root(x, ok, s)
+}
+
+/// `s` (within one `f32` step of `√x`) moved to the `f32` nearest to `√x`
+/// when `ok` (`x` positive and finite), by the exact midpoint tests of
+/// [`sqrt_f32_from`]; `s` itself otherwise.
+#[cfg_attr(not(target_arch = "spirv"), allow(dead_code))]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
+fn correct_root(x: f32, ok: bool, s: f32) -> f32 {
+    let xd = x as f64;
+    let bits = s.to_bits();
+    let sd = s as f64;
+    // For a positive finite `s` (where `ok`), `bits ± 1` are its neighbours.
+    let up = f32::from_bits(bits.wrapping_add(1)) as f64;
+    let down = f32::from_bits(bits.wrapping_sub(1)) as f64;
+    let m_up = (sd + up) * 0.5;
+    let m_down = (sd + down) * 0.5;
+    let inc = (ok & (m_up * m_up < xd)) as u32;
+    let dec = (ok & (m_down * m_down > xd)) as u32;
+    f32::from_bits(bits.wrapping_add(inc).wrapping_sub(dec))
+}
 
 /// [`Math::DIV_STEPS`] of `f32`: correctly rounded everywhere.
 const F32_DIV_STEPS: u32 = 1;
@@ -184,4 +285,133 @@ fn f32_div(n: f32, d: f32) -> f32 {
 #[cfg_attr(not(target_arch = "spirv"), inline)]
 fn f64_div(n: f64, d: f64) -> f64 {
     n / d
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Real;
+
+    /// The correctly rounded `f32` square root: `f64`'s (IEEE) rounded to
+    /// `f32`, which is exact for square roots (53 ≥ 2·24 + 2 bits).
+    fn reference(x: f32) -> f32 {
+        (x as f64).sqrt() as f32
+    }
+
+    /// `n` positive finite `f32`s over every binade (a fixed LCG).
+    fn spread(n: usize) -> impl Iterator<Item = f32> {
+        let mut state = 0x2545_F491_4F6C_DD1Du64;
+        (0..n).map(move |_| {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            // bits above +0, below +∞
+            f32::from_bits(1 + ((state >> 33) as u32) % 0x7F7F_FFFF)
+        })
+    }
+
+    const EDGES: [f32; 12] = [
+        f32::MIN_POSITIVE,
+        f32::from_bits(1),
+        f32::from_bits(0x007F_FFFF),
+        f32::MAX,
+        1.0,
+        2.0,
+        4.0,
+        16_777_215.0,
+        16_777_216.0,
+        0.1,
+        1.0 - f32::EPSILON / 2.0,
+        1.0 + f32::EPSILON,
+    ];
+
+    #[test]
+    fn sqrt_f32_is_correctly_rounded() {
+        for x in EDGES.into_iter().chain(spread(1_000_000)) {
+            assert_eq!(sqrt_f32(x).to_bits(), reference(x).to_bits(), "√{x:e}");
+        }
+        for r in [1.5f32, 3.0, 1234.5, 1.0e-20, 1.0e19] {
+            assert_eq!(sqrt_f32(r * r), reference(r * r));
+        }
+        assert_eq!(sqrt_f32(0.0).to_bits(), 0.0f32.to_bits());
+        assert_eq!(sqrt_f32(-0.0).to_bits(), (-0.0f32).to_bits());
+        assert_eq!(sqrt_f32(f32::INFINITY), f32::INFINITY);
+        assert!(sqrt_f32(f32::NAN).is_nan());
+        assert!(sqrt_f32(-1.0).is_nan());
+    }
+
+    /// Every 97th `f32` of `[1, 4)`, a whole period of the exponent's
+    /// parity.
+    #[test]
+    fn sqrt_f32_over_two_binades() {
+        for bits in (1.0f32.to_bits()..4.0f32.to_bits()).step_by(97) {
+            let x = f32::from_bits(bits);
+            assert_eq!(sqrt_f32(x).to_bits(), reference(x).to_bits(), "√{x:e}");
+        }
+    }
+
+    /// Estimates off by a relative `±2⁻¹²` and less (a driver's `Sqrt`
+    /// with single precision only is within about `2⁻²¹`) still give the
+    /// rounded root; `±2⁻⁸` does not on every value, so the test can fail.
+    #[test]
+    fn estimates_within_the_documented_error_are_corrected() {
+        let rel = [
+            0.0,
+            2f64.powi(-40),
+            2f64.powi(-24),
+            2f64.powi(-21),
+            2f64.powi(-16),
+            2f64.powi(-12),
+        ];
+        for x in EDGES.into_iter().chain(spread(100_000)) {
+            let (r, exact) = (reference(x), (x as f64).sqrt());
+            for e in rel {
+                for y in [exact * (1.0 + e), exact * (1.0 - e)] {
+                    assert_eq!(
+                        sqrt_f32_from(x, y).to_bits(),
+                        r.to_bits(),
+                        "√{x:e} from {y:e}"
+                    );
+                }
+            }
+        }
+        let too_far = spread(1000)
+            .filter(|&x| {
+                let y = (x as f64).sqrt() * (1.0 + 2f64.powi(-8));
+                sqrt_f32_from(x, y) != reference(x)
+            })
+            .count();
+        assert!(too_far > 0, "a 2⁻⁸ estimate was always corrected");
+        // A flushed (zero) or broken estimate is not "corrected" into a
+        // huge root: it is returned as it is.
+        let x = f32::from_bits(1);
+        assert_eq!(sqrt_f32_from(x, 0.0), 0.0);
+        assert_eq!(sqrt_f32_from(2.0, f64::INFINITY), f32::INFINITY);
+        assert!(sqrt_f32_from(2.0, f64::NAN).is_nan());
+    }
+
+    /// The correction alone moves a root one `f32` step off either way
+    /// back, and cannot repair two steps (so the Newton step is needed).
+    #[test]
+    fn the_correction_repairs_one_step() {
+        let mut two_steps_repaired = 0;
+        for x in EDGES.into_iter().chain(spread(20_000)) {
+            let r = reference(x);
+            assert_eq!(correct_root(x, true, r).to_bits(), r.to_bits(), "√{x:e}");
+            for s in [r.next_up_n(1), r.next_down_n(1)] {
+                assert_eq!(
+                    correct_root(x, true, s).to_bits(),
+                    r.to_bits(),
+                    "√{x:e} from {s:e}"
+                );
+            }
+            for s in [r.next_up_n(2), r.next_down_n(2)] {
+                two_steps_repaired += usize::from(correct_root(x, true, s) == r);
+            }
+        }
+        assert_eq!(two_steps_repaired, 0);
+        // Not positive and finite: left alone.
+        assert_eq!(correct_root(0.0, false, 0.0).to_bits(), 0.0f32.to_bits());
+        assert!(correct_root(-1.0, false, f32::NAN).is_nan());
+    }
 }
