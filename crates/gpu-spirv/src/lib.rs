@@ -929,8 +929,6 @@ impl GpuTracer {
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(GpuError::Dispatch(error_chain(&e)));
         }
-        // The leg methods run in legs: dispatch until every
-        // pixel is done.
         // A CPU adapter (lavapipe) compiles the pipeline's machine code at
         // its first dispatch, in several gigabytes (BENCHMARKS.md "GPU",
         // session 13): one such first dispatch at a time, and the memory
@@ -948,6 +946,8 @@ impl GpuTracer {
                 .lock()
                 .unwrap_or_else(std::sync::PoisonError::into_inner)
         });
+        // The leg methods run in legs: dispatch until every
+        // pixel is done.
         let mut dispatches = 0u32;
         let mut progress = None;
         let start = Instant::now();

@@ -898,16 +898,28 @@ mod tests {
         out
     }
 
+    /// Rays through [`skeleton`] crossing it at least twice.
+    const RAYS: [([f64; 3], [f64; 3]); 3] = [
+        ([-2.0, 0.05, 0.02], [1.0, 0.0, 0.0]),
+        ([-2.0, 0.9, 0.01], [1.0, 0.1, 0.0]),
+        ([-2.0, -0.5, 0.1], [1.0, 0.02, 0.0]),
+    ];
+
+    /// `got` are the roots of `expect` (within `2·eps`, same sides).
+    fn assert_roots(what: &str, got: &[Root<f64>], expect: &[(f64, Side)], eps: f64) {
+        assert_eq!(got.len(), expect.len(), "{what}: {got:?} vs {expect:?}");
+        for (g, e) in got.iter().zip(expect) {
+            assert!((g.t - e.0).abs() <= 2.0 * eps, "{what}: {g:?} vs {e:?}");
+            assert_eq!(g.side, e.1, "{what}");
+        }
+    }
+
     #[test]
     fn every_scalis_method_finds_every_root() {
         let sk = skeleton();
         let params = Params::new();
         let span = [0.0, 6.0];
-        for (o, d) in [
-            ([-2.0, 0.05, 0.02], [1.0, 0.0, 0.0]),
-            ([-2.0, 0.9, 0.01], [1.0, 0.1, 0.0]),
-            ([-2.0, -0.5, 0.1], [1.0, 0.02, 0.0]),
-        ] {
+        for (o, d) in RAYS {
             let ray = Ray::new(o, d);
             let expect = sampled_roots(&sk, &ray, span);
             assert!(expect.len() >= 2, "{expect:?}");
@@ -927,15 +939,8 @@ mod tests {
                     &mut buf,
                 );
                 assert_eq!(tr.status, Status::Finished, "{method}");
-                let got = &buf[..tr.roots as usize];
-                assert_eq!(got.len(), expect.len(), "{method}: {got:?} vs {expect:?}");
-                for (g, e) in got.iter().zip(&expect) {
-                    assert!(
-                        (g.t - e.0).abs() <= 2.0 * params.eps,
-                        "{method}: {g:?} vs {e:?}"
-                    );
-                    assert_eq!(g.side, e.1, "{method}");
-                }
+                let what = method.to_string();
+                assert_roots(&what, &buf[..tr.roots as usize], &expect, params.eps);
                 let mut one = [NONE; 1];
                 let tr = trace_scalis(
                     &sk,
@@ -965,11 +970,7 @@ mod tests {
         let params = Params::new();
         let span = [0.0, 6.0];
         let mut more = 0;
-        for (o, d) in [
-            ([-2.0, 0.05, 0.02], [1.0, 0.0, 0.0]),
-            ([-2.0, 0.9, 0.01], [1.0, 0.1, 0.0]),
-            ([-2.0, -0.5, 0.1], [1.0, 0.02, 0.0]),
-        ] {
+        for (o, d) in RAYS {
             let ray = Ray::new(o, d);
             let expect = sampled_roots(&sk, &ray, span);
             let mut store = [PrimitiveHit::empty(); 8];
@@ -991,15 +992,8 @@ mod tests {
                     &mut buf,
                 );
                 assert_eq!(tr.status, Status::Finished, "{scope:?}");
-                let got = &buf[..tr.roots as usize];
-                assert_eq!(got.len(), expect.len(), "{scope:?}: {got:?} vs {expect:?}");
-                for (g, e) in got.iter().zip(&expect) {
-                    assert!(
-                        (g.t - e.0).abs() <= 2.0 * params.eps,
-                        "{scope:?}: {g:?} vs {e:?}"
-                    );
-                    assert_eq!(g.side, e.1, "{scope:?}");
-                }
+                let what = format!("{scope:?}");
+                assert_roots(&what, &buf[..tr.roots as usize], &expect, params.eps);
                 steps[k] = tr.stats.steps;
             }
             assert!(steps[1] >= steps[0], "{steps:?}");
