@@ -858,6 +858,8 @@ fn sphere_per_ray<T: Real, S: AsRef<[ScalisSegment<T>]>>(
 mod tests {
     use super::*;
     extern crate alloc;
+    use alloc::format;
+    use alloc::string::ToString;
     use alloc::vec::Vec;
     use boundtrace_fields::homothetic::{Segment, SegmentKernel};
 
