@@ -23,12 +23,20 @@
 //!   interval root-free (when the cell sums cannot decide: the closed
 //!   form's range on short intervals, then tight ranges for grazing
 //!   stretches — [`bounds::log_concave_range`] for constant radii,
-//!   [`bounds::taylor_model`] per primitive and summed);
+//!   quadratic Taylor models built at the interval's midpoint
+//!   ([`bounds::taylor_model_at`]) per primitive and summed, with the
+//!   second derivative enclosed on [`FINE_PIECES`] pieces when one piece
+//!   is too wide; so does a field with the same strict sign at both ends
+//!   whose summed models bound its derivative away from 0
+//!   ([`bounds::taylor_model_slope`]: monotone, so root-free);
 //!   otherwise the interval is split where the oracle of §1.4 predicts the
 //!   root: the first root of the smooth piecewise-quadratic Bézier
 //!   interpolant (eq. 1.10) of the Hermite data of the **normalized field**
 //!   `g∘f∘δ − 1` at its ends, rational with middle weight 3 until a sign
-//!   change isolates a root (Fig. 1.7), polynomial afterwards. The split
+//!   change isolates a root (Fig. 1.7), polynomial afterwards — or, before
+//!   a sign change, the Newton step from the left end when it lies
+//!   further (the far end's data pull the interpolant's root short on
+//!   long intervals of a near-linear approach). The split
 //!   is made at `t_root ± 0.45·eps`, so a correct prediction brackets the
 //!   root in one step; a wrong one costs a bisection-like step. The thesis'
 //!   oracle *rejects* intervals where it predicts no root (a heuristic that
@@ -98,6 +106,19 @@ pub const STACK_CAPACITY: usize = 64;
 /// The middle weight of the rational Bézier oracle before a root is
 /// isolated (thesis §1.4.2: "a weight equal to 3 … was sufficient").
 pub const ORACLE_WEIGHT: f64 = 3.0;
+
+/// The pieces of a ray interval on which the second derivative of each
+/// primitive is enclosed (the hull of the pieces' closed-form enclosures)
+/// in the second pass of the tight stage ([`bounds::taylor_model_at`]):
+/// an interval enclosure of the closed form over the whole interval is
+/// hundreds of times the true `f''` on grazing stretches, and it shrinks
+/// faster than the pieces.
+pub const FINE_PIECES: u32 = 16;
+
+/// The second pass with [`FINE_PIECES`] runs only where a second
+/// derivative this many times narrower (placed as favourably as it can
+/// be) would decide the interval: a cost filter, never a proof.
+const FINE_GAIN: f64 = 64.0;
 
 /// Traces `ray` on `span` through the SCALIS `skeleton` with `method` (see
 /// the module docs), using `hits`, the ray's **complete** list of support
@@ -383,15 +404,76 @@ impl<T: Real> Ctx<'_, T> {
             }
             stage += 1;
         }
-        if r.contains(T::ZERO) {
-            stats.bound_evals += 1;
-            let tight = Interval::point(self.iso) - self.tight_density(hits, a, b);
-            let c = r.intersection(tight);
-            if !c.is_empty() {
-                r = c;
-            }
-        }
         r
+    }
+
+    /// Whether `[a.t, b.t]` is proven root-free: a range of `iso − f`
+    /// that excludes `0` ([`range`](Self::range), then
+    /// [`tight_density`](Self::tight_density)), or the same strict sign at
+    /// both ends with a derivative enclosure of the summed Taylor models
+    /// ([`bounds::taylor_model_slope`]) that excludes `0` (a monotone
+    /// field). The tight stage runs with one piece per primitive, then,
+    /// when [`FINE_GAIN`] says it may decide, with [`FINE_PIECES`].
+    fn root_free(
+        &self,
+        hits: &[PrimitiveHit<T>],
+        a: &Pt<T>,
+        b: &Pt<T>,
+        stats: &mut RayStats,
+    ) -> bool {
+        let mut r = self.range(hits, a.t, b.t, stats);
+        if !r.contains(T::ZERO) {
+            return true;
+        }
+        let same = (a.f.lo() > T::ZERO && b.f.lo() > T::ZERO)
+            || (a.f.hi() < T::ZERO && b.f.hi() < T::ZERO);
+        let (a, b) = (a.t, b.t);
+        // the models are built at the midpoint (a quarter of the quadratic
+        // term of a model built at an end)
+        let c = (a + (b - a) * T::HALF).max(a).min(b);
+        let mut pieces = 1;
+        loop {
+            stats.bound_evals += 1;
+            let (d, model) = self.tight_density(hits, a, b, c, pieces);
+            let x = r.intersection(Interval::point(self.iso) - d);
+            if !x.is_empty() {
+                r = x;
+            }
+            let slope = model.map(|m| bounds::taylor_model_slope(m, c, a, b));
+            if !r.contains(T::ZERO) {
+                return true;
+            }
+            if same && slope.is_some_and(|s| !s.is_empty() && !s.contains(T::ZERO)) {
+                return true;
+            }
+            if pieces >= FINE_PIECES {
+                return false;
+            }
+            // Would a second derivative FINE_GAIN times narrower, at the
+            // point of this one nearest 0, decide? (Only a filter: what is
+            // proven comes from the second pass itself.)
+            let Some([f0, d1, d2]) = model else {
+                return false;
+            };
+            let near = if d2.lo() > T::ZERO {
+                d2.lo()
+            } else if d2.hi() < T::ZERO {
+                d2.hi()
+            } else {
+                T::ZERO
+            };
+            let rad = (d2.hi() - d2.lo()) * T::HALF / T::from_f64(FINE_GAIN);
+            let hope = [f0, d1, Interval::new(near - rad, near + rad)];
+            let hope_range =
+                Interval::point(self.iso) - bounds::taylor_model_range_at(hope, c, a, b);
+            let hope_slope = bounds::taylor_model_slope(hope, c, a, b);
+            let hopeless_range = hope_range.contains(T::ZERO);
+            let hopeless_slope = !same || hope_slope.contains(T::ZERO);
+            if hopeless_range && hopeless_slope {
+                return false;
+            }
+            pieces = FINE_PIECES;
+        }
     }
 
     /// The last stage of [`range`](Self::range), for the grazing stretches
@@ -408,10 +490,18 @@ impl<T: Real> Ctx<'_, T> {
     /// - the range of the **sum** of the quadratic Taylor models (a
     ///   primitive without one enters as its constant range), which keeps
     ///   the cancellations between primitives.
-    fn tight_density(&self, hits: &[PrimitiveHit<T>], a: T, b: T) -> Interval<T> {
+    fn tight_density(
+        &self,
+        hits: &[PrimitiveHit<T>],
+        a: T,
+        b: T,
+        c: T,
+        pieces: u32,
+    ) -> (Interval<T>, Option<[Interval<T>; 3]>) {
         let zero = Interval::point(T::ZERO);
         let mut sum = zero;
         let mut model = [zero; 3];
+        let mut whole = true;
         for h in hits {
             if h.entry > b {
                 break;
@@ -423,8 +513,8 @@ impl<T: Real> Ctx<'_, T> {
             // both bounds hold on the whole line (the closed form is exactly
             // 0 outside the support), so [a, b] is used as is
             let lc = bounds::log_concave_range(s, self.ray, a, b);
-            let tm = bounds::taylor_model(s, self.ray, a, b);
-            let tr = tm.map(|m| bounds::taylor_model_range(m, a, b));
+            let tm = bounds::taylor_model_at(s, self.ray, c, a, b, pieces);
+            let tr = tm.map(|m| bounds::taylor_model_range_at(m, c, a, b));
             let mut per = match (lc, tr) {
                 (Some(x), Some(y)) => {
                     let c = x.intersection(y);
@@ -445,11 +535,14 @@ impl<T: Real> Ctx<'_, T> {
                     model[1] = model[1] + m[1];
                     model[2] = model[2] + m[2];
                 }
-                None => model[0] = model[0] + per,
+                None => {
+                    model[0] = model[0] + per;
+                    whole = false;
+                }
             }
         }
-        let c = sum.intersection(bounds::taylor_model_range(model, a, b));
-        if c.is_empty() { sum } else { c }
+        let r = sum.intersection(bounds::taylor_model_range_at(model, c, a, b));
+        (if r.is_empty() { sum } else { r }, whole.then_some(model))
     }
 }
 
@@ -593,8 +686,7 @@ fn process_region<T: Real>(
                 (false, true) => Side::Entering,
                 (true, false) => Side::Leaving,
                 _ => {
-                    let r = ctx.range(hits, a.t, b.t, &mut w.stats);
-                    if !r.contains(T::ZERO) {
+                    if ctx.root_free(hits, &a, &b, &mut w.stats) {
                         continue;
                     }
                     if splittable && len > fine {
@@ -627,8 +719,7 @@ fn process_region<T: Real>(
             }
             continue;
         }
-        let r = ctx.range(hits, a.t, b.t, &mut w.stats);
-        if !r.contains(T::ZERO) {
+        if ctx.root_free(hits, &a, &b, &mut w.stats) {
             continue;
         }
         let (sa, sb) = (sign_of(a.f), sign_of(b.f));
@@ -651,7 +742,19 @@ fn process_region<T: Real>(
             } else {
                 T::from_f64(ORACLE_WEIGHT)
             };
-            oracle(a.t, b.t, ga, da, gb, db, weight)
+            let g = oracle(a.t, b.t, ga, da, gb, db, weight);
+            // Before a sign change, the Newton step from the left end where
+            // it lies further than the oracle's root: on a long interval
+            // the far end's Hermite data pull the interpolant's root short
+            // of a near-linear approach, one short guess after another.
+            let newton = (!bracketed && ga * da < T::ZERO)
+                .then(|| a.t - ga / da)
+                .filter(|&t| t > a.t && t < b.t);
+            match (g, newton) {
+                (Some(x), Some(t)) => Some(x.max(t)),
+                (None, t) => t,
+                (x, None) => x,
+            }
         } else {
             None
         };
@@ -906,6 +1009,57 @@ mod tests {
         ([-2.0, 0.9, 0.01], [1.0, 0.1, 0.0]),
         ([-2.0, -0.5, 0.1], [1.0, 0.02, 0.0]),
     ];
+
+    /// Every interval `root_free` proves has no root nor touch (the field,
+    /// sampled densely, keeps the strict sign of its ends), and the tight
+    /// stages (the midpoint models, the fine pieces, the monotone test)
+    /// prove intervals that the cell sums and the closed form's range
+    /// (`range`) alone do not.
+    #[test]
+    fn root_free_proofs_hold_and_reach_beyond_the_ranges() {
+        let sk = skeleton();
+        let span = [0.0, 6.0];
+        let (mut proven, mut beyond) = (0, 0);
+        for (o, d) in RAYS {
+            let ray = Ray::new(o, d);
+            let mut store = [PrimitiveHit::empty(); 8];
+            let list = RayPrimitives::build(sk.segments(), &ray, span, &mut store);
+            let ctx = Ctx {
+                segments: sk.segments(),
+                hits: list.hits(),
+                iso: sk.iso(),
+                ray: &ray,
+            };
+            let pt = |t: f64| Pt {
+                t,
+                f: ctx.value(list.hits(), t),
+                herm: None,
+            };
+            for len in [0.5, 0.1, 0.02, 0.004] {
+                let n = (6.0 / len) as u32;
+                for i in 0..n {
+                    let (a, b) = (f64::from(i) * len, f64::from(i + 1) * len);
+                    let mut stats = RayStats::default();
+                    if !ctx.root_free(list.hits(), &pt(a), &pt(b), &mut stats) {
+                        continue;
+                    }
+                    proven += 1;
+                    let positive = sk.eval(ray.at::<f64>(a, a)) > 0.0;
+                    for k in 0..=2000 {
+                        let t = a + (b - a) * f64::from(k) / 2000.0;
+                        let v: f64 = sk.eval(ray.at::<f64>(t, t));
+                        assert!(
+                            v != 0.0 && (v > 0.0) == positive,
+                            "[{a}, {b}] proven root-free, field {v} at {t}"
+                        );
+                    }
+                    let r = ctx.range(list.hits(), a, b, &mut stats);
+                    beyond += usize::from(r.contains(0.0));
+                }
+            }
+        }
+        assert!(proven > 0 && beyond > 0, "{proven} {beyond}");
+    }
 
     /// `got` are the roots of `expect` (within `2·eps`, same sides).
     fn assert_roots(what: &str, got: &[Root<f64>], expect: &[(f64, Side)], eps: f64) {
