@@ -82,9 +82,11 @@
 //! estimate: one Newton step in `f64` and an exact midpoint test give the
 //! correctly rounded root), so they equal the CPU's on every driver with
 //! IEEE `f64` arithmetic ([`outward_probe`] checks the bounds against
-//! exact results and the CPU's). `exp`, used by Gaussian kernels, which
-//! the GPU scenes do not use, is still the driver's, with an unproven
-//! margin (issue 9, open). On lavapipe the GPU thus computes the CPU's
+//! exact results and the CPU's). `f32` exponentials (Gaussian kernels,
+//! which the GPU scenes do not use yet) are `ia-core`'s own on SPIR-V too,
+//! within one step of `e^x` without the driver's `Exp`; `ln`, `sin`,
+//! `cos` and `pow` are still the driver's, with an unproven margin
+//! (issue 9, open). On lavapipe the GPU thus computes the CPU's
 //! bounds, bit for bit ([`arith_probe`], [`outward_probe`] and the
 //! difftests check it on the driver in use).
 //! Subnormals are assumed preserved (Vulkan allows flushing them).

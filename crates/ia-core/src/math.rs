@@ -19,15 +19,15 @@ pub(crate) const TRANSCENDENTAL_ULPS: u32 = 2;
 /// Float steps an `exp`, `ln`, `sin`, `cos` or `pow` result is widened by.
 ///
 /// On SPIR-V the margin is wider, but **not proven sound on every
-/// driver**: rust-gpu 0.11 replaces the calls to `libm`'s `expf`, `logf`,
-/// `sinf`, `cosf`, `powf` (and their `f64` forms) with GLSL.std.450
-/// instructions (`rustc_codegen_spirv`'s libm intrinsics), whose Vulkan
-/// precision is coarser than 8 steps in places: `Exp` 3 + 2·|x| ulp, `Log`
-/// 3 ulp or 2⁻²¹ absolute, `Sin`/`Cos` 2⁻¹¹ absolute on [−π, π], `Pow`
-/// inherited from `exp2(y·log2 x)`. The blob scenes the GPU traces today
-/// use compact polynomial kernels (no transcendental function in their
-/// bounds); a Gaussian kernel's `exp` on the GPU is an open soundness gap
-/// (issue 9, BENCHMARKS.md "GPU", session 11).
+/// driver** for `ln`, `sin`, `cos`, `pow` and the `f64` `exp`: rust-gpu
+/// 0.11 replaces the calls to `libm`'s `logf`, `sinf`, `cosf`, `powf` (and
+/// the `f64` forms) with GLSL.std.450 instructions (`rustc_codegen_spirv`'s
+/// libm intrinsics), whose Vulkan precision is coarser than 8 steps in
+/// places: `Log` 3 ulp or 2⁻²¹ absolute, `Sin`/`Cos` 2⁻¹¹ absolute on
+/// [−π, π], `Pow` inherited from `exp2(y·log2 x)`, `Exp` 3 + 2·|x| ulp.
+/// The `f32` `exp` (Gaussian kernels) does not use the driver's `Exp`:
+/// [`exp_f32`] is within one step on any driver with IEEE `f64` `+`, `×`,
+/// so 2 steps would do for it; the 8 steps are kept for the others.
 #[cfg(target_arch = "spirv")]
 pub(crate) const TRANSCENDENTAL_ULPS: u32 = 8;
 
@@ -77,12 +77,19 @@ pub trait Math: Copy {
 }
 
 macro_rules! impl_math {
-    ($t:ty, $exp:ident, $ln:ident, $sin:ident, $cos:ident, $pow:ident, $sqrt:ident, $sqrt_spirv:path, $div:ident, $steps:ident) => {
+    ($t:ty, $exp:ident, $exp_spirv:path, $ln:ident, $sin:ident, $cos:ident, $pow:ident, $sqrt:ident, $sqrt_spirv:path, $div:ident, $steps:ident) => {
         #[cfg(feature = "libm")]
         impl Math for $t {
             #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn m_exp(self) -> Self {
-                libm::$exp(self)
+                #[cfg(target_arch = "spirv")]
+                {
+                    $exp_spirv(self)
+                }
+                #[cfg(not(target_arch = "spirv"))]
+                {
+                    libm::$exp(self)
+                }
             }
             #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn m_ln(self) -> Self {
@@ -156,6 +163,7 @@ macro_rules! impl_math {
 impl_math!(
     f32,
     expf,
+    exp_f32,
     logf,
     sinf,
     cosf,
@@ -168,6 +176,7 @@ impl_math!(
 impl_math!(
     f64,
     exp,
+    libm::exp,
     log,
     sin,
     cos,
@@ -258,6 +267,77 @@ fn correct_root(x: f32, ok: bool, s: f32) -> f32 {
     f32::from_bits(bits.wrapping_add(inc).wrapping_sub(dec))
 }
 
+/// `e^x` of an `f32` within one `f32` step of the exact value, computed
+/// with `f64` `+`, `×` and conversions only: what [`Math::m_exp`] of `f32`
+/// is on SPIR-V.
+///
+/// rust-gpu 0.11 replaces `libm`'s `expf` with the driver's GLSL.std.450
+/// `Exp`, which Vulkan only requires to `3 + 2·|x|` ulp (far beyond
+/// [`TRANSCENDENTAL_ULPS`] for `|x| > 2`), so the GPU computes it itself:
+///
+/// 1. `x` is clamped to `[−110, 100]` (beyond, the `f32` result is `0` or
+///    `+∞` either way) and reduced, `x = k·ln 2 + r` with
+///    `k = ⌊x·log₂e + ½⌋` (by a truncating conversion of a positive value:
+///    no rounding-mode or `floor` dependence) and `r = (x − k·ln2_hi) −
+///    k·ln2_lo` (`ln2_hi` has 32 significant bits, so `k·ln2_hi` is exact),
+///    `|r| ≤ 0.3466`;
+/// 2. `e^r` by its degree-11 Taylor polynomial in Horner form: truncation
+///    below `9·10⁻¹⁵` relative, rounding a few `f64` ulps;
+/// 3. the scaling by `2^k` as two exact `f32` powers of two (`|k| ≤ 160`
+///    does not fit one `f32` exponent), multiplied in `f64` (exact), then
+///    one rounding to `f32`.
+///
+/// So the result is the exact `e^x` with a relative error below `10⁻¹⁴`,
+/// rounded once to `f32`: within one `f32` step of `e^x` (correctly rounded
+/// except within `10⁻¹⁴` of a midpoint), `+∞` from `x ≈ 88.7228` up, `0`
+/// below about `−103.97`, NaN for NaN. **No branches and no loops**
+/// (choices by integer arithmetic on the bits, as in [`sqrt_f32_from`]).
+/// Assumes correctly rounded `f64` `+`, `×` and conversions (IEEE 754,
+/// Vulkan); a driver flushing subnormal `f32`s to zero flushes results
+/// below `2⁻¹²⁶` (not covered). Tested against `f64` `exp` on the CPU.
+#[cfg_attr(not(target_arch = "spirv"), allow(dead_code))]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
+pub(crate) fn exp_f32(x: f32) -> f32 {
+    /// `ln 2` to 32 significant bits (fdlibm's `ln2_hi`, low 21 bits of
+    /// the significand zero) and the rest (`ln2_lo`).
+    const LN2_HI: f64 = f64::from_bits(0x3FE6_2E42_FEE0_0000);
+    const LN2_LO: f64 = f64::from_bits(0x3DEA_39EF_3579_3C76);
+    // clamped by bit selects (`if` compiles to a branch on rust-gpu); NaN
+    // compares false and stays NaN (replaced by `x` at the end)
+    let hi = x > 100.0;
+    let lo = x < -110.0;
+    let sel = |c: bool, a: f32, b: f32| {
+        let m = 0u32.wrapping_sub(u32::from(c));
+        f32::from_bits((a.to_bits() & m) | (b.to_bits() & !m))
+    };
+    let c = sel(hi, 100.0, sel(lo, -110.0, x)) as f64;
+    // k = ⌊c·log₂e + ½⌋: the argument is ≥ 200.5 − 158.7 > 0, so the
+    // truncating conversion is the floor (a NaN converts to some integer:
+    // its result is replaced below)
+    let k = (c * core::f64::consts::LOG2_E + 200.5) as i32 - 200;
+    let kd = k as f64;
+    let r = (c - kd * LN2_HI) - kd * LN2_LO;
+    // e^r, Taylor to degree 11
+    let mut p = 1.0 / 39_916_800.0;
+    p = p * r + 1.0 / 3_628_800.0;
+    p = p * r + 1.0 / 362_880.0;
+    p = p * r + 1.0 / 40_320.0;
+    p = p * r + 1.0 / 5_040.0;
+    p = p * r + 1.0 / 720.0;
+    p = p * r + 1.0 / 120.0;
+    p = p * r + 1.0 / 24.0;
+    p = p * r + 1.0 / 6.0;
+    p = p * r + 0.5;
+    p = p * r + 1.0;
+    p = p * r + 1.0;
+    // 2^k = 2^k1 · 2^k2, both within f32's normal exponents
+    let k1 = k / 2;
+    let k2 = k - k1;
+    let pow2 = |e: i32| f32::from_bits(((e + 127) as u32) << 23) as f64;
+    let y = (p * pow2(k1) * pow2(k2)) as f32;
+    sel(x.is_nan(), x, y)
+}
+
 /// [`Math::DIV_STEPS`] of `f32`: correctly rounded everywhere.
 const F32_DIV_STEPS: u32 = 1;
 
@@ -324,6 +404,66 @@ mod tests {
         1.0 - f32::EPSILON / 2.0,
         1.0 + f32::EPSILON,
     ];
+
+    /// `exp_f32` is within one `f32` step of `e^x` (the `f64` `exp`,
+    /// within `10⁻¹⁵` of it, lies strictly between its neighbours) on a
+    /// million spread arguments, a fine sweep of `[−104, 89]` and the
+    /// edges, and correctly rounded on nearly all of them.
+    #[test]
+    fn exp_f32_is_within_one_step() {
+        // spread() covers every binade: most arguments are huge, so they
+        // are folded into [-120, 120) (keeping their low bits)
+        let spread_args = spread(1_000_000).map(|x| {
+            let x = x % 240.0;
+            if x < 120.0 { x } else { x - 240.0 }
+        });
+        let sweep = (0..=193_000).map(|i| -104.0 + i as f32 * 0.001);
+        let edges = [
+            0.0f32,
+            -0.0,
+            1.0,
+            -1.0,
+            88.722_83,
+            88.722_84,
+            88.8,
+            -87.336_55,
+            -103.97,
+            -103.98,
+            -104.0,
+            -150.0,
+            100.0,
+            1e-8,
+            -1e-8,
+            f32::MIN_POSITIVE,
+            0.5,
+            0.346_57,
+        ];
+        let (mut checked, mut rounded) = (0u32, 0u32);
+        for x in spread_args.chain(sweep).chain(edges) {
+            let y = exp_f32(x);
+            let e = f64::from(x).exp();
+            if e > f64::from(f32::MAX) * (1.0 + 1e-7) {
+                assert_eq!(y, f32::INFINITY, "{x}");
+                continue;
+            }
+            assert!(
+                f64::from(y.next_down_n(1)) < e && e < f64::from(y.next_up_n(1)),
+                "exp({x}) = {y}, exact {e}"
+            );
+            checked += 1;
+            rounded += u32::from(y == e as f32);
+        }
+        assert!(checked > 1_000_000);
+        assert!(
+            f64::from(rounded) >= 0.9999 * f64::from(checked),
+            "{rounded}/{checked}"
+        );
+        assert!(exp_f32(f32::NAN).is_nan());
+        assert_eq!(exp_f32(f32::INFINITY), f32::INFINITY);
+        assert_eq!(exp_f32(f32::NEG_INFINITY), 0.0);
+        assert_eq!(exp_f32(-200.0), 0.0);
+        assert_eq!(exp_f32(0.0), 1.0);
+    }
 
     #[test]
     fn sqrt_f32_is_correctly_rounded() {
