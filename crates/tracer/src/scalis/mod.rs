@@ -154,7 +154,11 @@ pub fn trace_scalis<T: Real, S: AsRef<[ScalisSegment<T>]>>(
         Method::ScalisQuadratic => Split::Oracle,
         Method::Interval => Split::Bisection,
         Method::Sphere => {
-            return trace_scalis_sphere(
+            // validated above but for the segments
+            if check_segments(segments).is_err() {
+                return unsupported;
+            }
+            return sphere_per_ray(
                 skeleton,
                 hits,
                 ray,
