@@ -368,9 +368,10 @@ impl<T: Real> Ctx<'_, T> {
     /// hit's `[entry, exit]`, joined with `0` when that is only a part;
     /// [`CELLS`] cells, then [`FINE_CELLS`] when the first sum cannot
     /// decide, then intersected with the closed form's range on short
-    /// intervals, [`CLOSED_FORM_WIDTH`]; then intersected with
-    /// [`tight_density`](Self::tight_density)'s range). `stats` counts one
-    /// bound evaluation per stage.
+    /// intervals, [`CLOSED_FORM_WIDTH`]; the tight stage,
+    /// [`tight_density`](Self::tight_density), follows in
+    /// [`root_free`](Self::root_free)). `stats` counts one bound
+    /// evaluation per stage.
     fn range(&self, hits: &[PrimitiveHit<T>], a: T, b: T, stats: &mut RayStats) -> Interval<T> {
         let zero = Interval::point(T::ZERO);
         let mut r = Interval::ENTIRE;
@@ -480,7 +481,8 @@ impl<T: Real> Ctx<'_, T> {
         }
     }
 
-    /// The last stage of [`range`](Self::range), for the grazing stretches
+    /// The stage after [`range`](Self::range) in
+    /// [`root_free`](Self::root_free), for the grazing stretches
     /// where the field stays close to the iso-value (the cell sums and the
     /// closed form's Lipschitz lines are much wider than its variation
     /// there): a sound enclosure of the density on `[a, b]`, the
@@ -489,11 +491,15 @@ impl<T: Real> Ctx<'_, T> {
     /// - the sum over the hits of per-primitive ranges: the log-concave
     ///   bounds of constant-radius segments
     ///   ([`bounds::log_concave_range`]) intersected with the range of the
-    ///   primitive's quadratic Taylor model ([`bounds::taylor_model`]), the
-    ///   cell sums ([`FINE_CELLS`]) when neither applies;
+    ///   primitive's quadratic Taylor model built at `c`, with `f''` on
+    ///   `pieces` pieces ([`bounds::taylor_model_at`]), the cell sums
+    ///   ([`FINE_CELLS`]) when neither applies;
     /// - the range of the **sum** of the quadratic Taylor models (a
     ///   primitive without one enters as its constant range), which keeps
     ///   the cancellations between primitives.
+    ///
+    /// Also returns that summed model when every primitive has one (for
+    /// the derivative enclosure of [`root_free`](Self::root_free)).
     fn tight_density(
         &self,
         hits: &[PrimitiveHit<T>],
