@@ -241,11 +241,18 @@ pub(crate) fn sqrt_f32_from(x: f32, y: f64) -> f32 {
     // `&`, not `&&`: no branch
     let ok = (x > 0.0) & (x < f32::INFINITY) & (y > 0.0) & (y < f64::INFINITY);
     let refined = 0.5 * (y + xd / y);
-    // `refined` where `ok`, else `y`: selected on the bits (rust-gpu
-    // compiles an `if` into a branch)
-    let mask = 0u32.wrapping_sub(u32::from(ok));
-    let s = f32::from_bits(((refined as f32).to_bits() & mask) | ((y as f32).to_bits() & !mask));
+    // `refined` where `ok`, else `y`
+    let s = select_f32(ok, refined as f32, y as f32);
     correct_root(x, ok, s)
+}
+
+/// `a` where `c`, else `b`, selected on the bits: rust-gpu compiles an
+/// `if` into a branch (a basic block per inlined copy).
+#[cfg_attr(not(target_arch = "spirv"), allow(dead_code))]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
+fn select_f32(c: bool, a: f32, b: f32) -> f32 {
+    let mask = 0u32.wrapping_sub(u32::from(c));
+    f32::from_bits((a.to_bits() & mask) | (b.to_bits() & !mask))
 }
 
 /// `s` (within one `f32` step of `√x`) moved to the `f32` nearest to `√x`
@@ -302,15 +309,9 @@ pub(crate) fn exp_f32(x: f32) -> f32 {
     /// the significand zero) and the rest (`ln2_lo`).
     const LN2_HI: f64 = f64::from_bits(0x3FE6_2E42_FEE0_0000);
     const LN2_LO: f64 = f64::from_bits(0x3DEA_39EF_3579_3C76);
-    // clamped by bit selects (`if` compiles to a branch on rust-gpu); NaN
-    // compares false and stays NaN (replaced by `x` at the end)
-    let hi = x > 100.0;
-    let lo = x < -110.0;
-    let sel = |c: bool, a: f32, b: f32| {
-        let m = 0u32.wrapping_sub(u32::from(c));
-        f32::from_bits((a.to_bits() & m) | (b.to_bits() & !m))
-    };
-    let c = sel(hi, 100.0, sel(lo, -110.0, x)) as f64;
+    // clamped by bit selects; NaN compares false and stays NaN (replaced
+    // by `x` at the end)
+    let c = select_f32(x > 100.0, 100.0, select_f32(x < -110.0, -110.0, x)) as f64;
     // k = ⌊c·log₂e + ½⌋: the argument is ≥ 200.5 − 158.7 > 0, so the
     // truncating conversion is the floor (a NaN converts to some integer:
     // its result is replaced below)
@@ -335,7 +336,7 @@ pub(crate) fn exp_f32(x: f32) -> f32 {
     let k2 = k - k1;
     let pow2 = |e: i32| f32::from_bits(((e + 127) as u32) << 23) as f64;
     let y = (p * pow2(k1) * pow2(k2)) as f32;
-    sel(x.is_nan(), x, y)
+    select_f32(x.is_nan(), x, y)
 }
 
 /// [`Math::DIV_STEPS`] of `f32`: correctly rounded everywhere.

@@ -401,8 +401,7 @@ pub fn taylor_model_range<T: Real>(model: [Interval<T>; 3], a: T, b: T) -> Inter
 /// of `σ = −τ` (`d1` negated).
 pub fn taylor_model_range_at<T: Real>(model: [Interval<T>; 3], c: T, a: T, b: T) -> Interval<T> {
     let [f0, d1, d2] = model;
-    let right = (Interval::point(b) - Interval::point(c)).hi().max(T::ZERO);
-    let left = (Interval::point(c) - Interval::point(a)).hi().max(T::ZERO);
+    let (left, right) = reach(c, a, b);
     let r = ForwardQuadratic::taylor(f0, d1, d2, right).range();
     if left > T::ZERO {
         r.hull(ForwardQuadratic::taylor(f0, -d1, d2, left).range())
@@ -418,9 +417,16 @@ pub fn taylor_model_range_at<T: Real>(model: [Interval<T>; 3], c: T, a: T, b: T)
 /// it keeps their cancellations, so it can prove a sum monotone where the
 /// sum of per-primitive derivative enclosures cannot.
 pub fn taylor_model_slope<T: Real>(model: [Interval<T>; 3], c: T, a: T, b: T) -> Interval<T> {
-    let right = (Interval::point(b) - Interval::point(c)).hi().max(T::ZERO);
-    let left = (Interval::point(c) - Interval::point(a)).hi().max(T::ZERO);
+    let (left, right) = reach(c, a, b);
     model[1] + model[2] * Interval::new(-left, right)
+}
+
+/// `(c − a, b − c)`, each rounded up and at least `0`: how far a model
+/// built at `c` reaches on `[a, b]`.
+fn reach<T: Real>(c: T, a: T, b: T) -> (T, T) {
+    let left = (Interval::point(c) - Interval::point(a)).hi().max(T::ZERO);
+    let right = (Interval::point(b) - Interval::point(c)).hi().max(T::ZERO);
+    (left, right)
 }
 
 #[cfg(test)]

@@ -444,10 +444,10 @@ impl<T: Real> Ctx<'_, T> {
             if !x.is_empty() {
                 r = x;
             }
-            let slope = model.map(|m| bounds::taylor_model_slope(m, c, a, b));
             if !r.contains(T::ZERO) {
                 return true;
             }
+            let slope = model.map(|m| bounds::taylor_model_slope(m, c, a, b));
             if same && slope.is_some_and(|s| !s.is_empty() && !s.contains(T::ZERO)) {
                 return true;
             }
