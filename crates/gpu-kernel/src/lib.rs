@@ -142,7 +142,7 @@ impl SceneKinds for GroupsOnly {
 }
 
 /// The frame's constants, as uploaded (plain `u32`/`f32` words, `#[repr(C)]`,
-/// no padding: 36 words).
+/// no padding: 37 words).
 ///
 /// Enums travel as their `#[repr(u32)]` codes; [`Constants::setup`]
 /// decodes them (an unknown code gives `None`, and the pixel is reported
@@ -200,6 +200,12 @@ pub struct Constants {
     /// [`render_sphere_leg`] (`0`: no limit), so that a frame can be
     /// traced in short dispatches (a GPU watchdog, or to test resumption).
     pub leg_steps: u32,
+    /// A global Lipschitz bound of a [`SceneKind::Blobs`] field that
+    /// replaces the blobs' own in sphere tracing when `> 0` (`0`, as
+    /// [`Constants::new`] sets it: the blobs' own): the `molecule` scene's
+    /// tighter bound, computed once by its generator (the CPU's
+    /// `scenes::WithLipschitz`). The host vouches for it, as there.
+    pub lipschitz: f32,
 }
 
 impl Constants {
@@ -239,11 +245,12 @@ impl Constants {
             groups,
             guard_loops: GUARD_LOOPS,
             leg_steps: 0,
+            lipschitz: 0.0,
         }
     }
 
     /// The constants as `u32` words in field order (for the upload).
-    pub fn to_words(&self) -> [u32; 36] {
+    pub fn to_words(&self) -> [u32; 37] {
         let f = |x: f32| x.to_bits();
         let [e, r, u, fw] = [self.eye, self.right, self.up, self.forward];
         let (lo, hi) = (self.bounds_lo, self.bounds_hi);
@@ -284,6 +291,7 @@ impl Constants {
             self.groups,
             self.guard_loops,
             self.leg_steps,
+            f(self.lipschitz),
         ]
     }
 
@@ -1063,7 +1071,10 @@ fn render_with<P: PixelKernel, K: SceneKinds>(
             Err(_) => unsupported(),
         },
         Some(SceneKind::Blobs) if K::BLOBS && c.iso.is_finite() => {
-            let field = Blobs::new_unchecked(c.iso, blobs);
+            let field = GlobalLipschitz {
+                field: Blobs::new_unchecked(c.iso, blobs),
+                lipschitz: c.lipschitz,
+            };
             p.run(&field, &setup, c.max_roots, x, y, roots, hits, base)
         }
         Some(SceneKind::Blobs) => unsupported(),
@@ -1082,6 +1093,46 @@ fn render_with<P: PixelKernel, K: SceneKinds>(
             unsupported()
         }
         None => unsupported(),
+    }
+}
+
+/// A field whose global Lipschitz bound is `lipschitz` when that is `> 0`
+/// and the field's own otherwise ([`Constants::lipschitz`]); everything
+/// else is the field's. With a bound it traces as the CPU's
+/// `scenes::WithLipschitz` does, without one as the field alone: one type
+/// for both, so that a module holds the blob tracing code once.
+struct GlobalLipschitz<F> {
+    field: F,
+    lipschitz: f32,
+}
+
+impl<F: Field<f32>> Field<f32> for GlobalLipschitz<F> {
+    #[inline]
+    fn eval<N: boundtrace_inclusion::FieldNum<f32>>(&self, p: [N; 3]) -> N {
+        self.field.eval(p)
+    }
+    fn lipschitz(&self) -> Option<f32> {
+        if self.lipschitz > 0.0 {
+            Some(self.lipschitz)
+        } else {
+            self.field.lipschitz()
+        }
+    }
+    fn taylor_linear(
+        &self,
+        ray: &Ray<f32>,
+        t0: f32,
+        t1: f32,
+    ) -> Option<boundtrace_inclusion::ForwardLinear<f32>> {
+        self.field.taylor_linear(ray, t0, t1)
+    }
+    fn taylor_quadratic(
+        &self,
+        ray: &Ray<f32>,
+        t0: f32,
+        t1: f32,
+    ) -> Option<boundtrace_inclusion::ForwardQuadratic<f32>> {
+        self.field.taylor_quadratic(ray, t0, t1)
     }
 }
 
@@ -1156,7 +1207,9 @@ mod tests {
         assert_eq!(c.setup(), Some(setup));
         assert_eq!(c.max_roots, MAX_GPU_ROOTS);
         let w = c.to_words();
-        assert_eq!(core::mem::size_of::<Constants>(), 36 * 4);
+        assert_eq!(core::mem::size_of::<Constants>(), 37 * 4);
+        assert_eq!(w.len(), 37);
+        assert_eq!(w[36], 0.0f32.to_bits(), "no Lipschitz bound unless the host sets one");
         assert_eq!(core::mem::size_of::<PixelLeg>(), 12 * 4);
         assert_eq!(w[34], GUARD_LOOPS);
         assert_eq!(w[28], Method::QuadraticMixed as u32);
@@ -1234,6 +1287,52 @@ mod tests {
                 assert!(hit_pixels > 4, "{hit_pixels}");
             }
         }
+    }
+
+    /// [`Constants::lipschitz`]: sphere tracing of the blobs with a global
+    /// bound traces as the CPU's `WithLipschitz` field (every pixel, both
+    /// modes), and with `0` as the blobs alone; the two differ.
+    #[test]
+    fn a_global_lipschitz_bound_traces_as_on_the_cpu() {
+        use boundtrace_fields::Blobs;
+        use boundtrace_tracer::scenes::WithLipschitz;
+        let (blobs, bounds) = two_blobs();
+        let own = Blobs::new_unchecked(0.5, &blobs[..]).lipschitz().unwrap();
+        // a valid, looser bound: more sphere-tracing steps
+        let loose = 3.0 * own;
+        let mut more_steps = 0;
+        for mode in [Mode::Opaque, Mode::Transparent] {
+            let setup = six_by_six(bounds, Method::Sphere, mode);
+            let plain = Constants::new(&setup, SceneKind::Blobs, 0.5, 4, 0);
+            let bound = Constants {
+                lipschitz: loose,
+                ..plain
+            };
+            let cpu_field = WithLipschitz::new(Blobs::new_unchecked(0.5, &blobs[..]), loose);
+            for y in 0..6 {
+                for x in 0..6 {
+                    let r = Root {
+                        t: 0.0,
+                        side: Side::Touch,
+                    };
+                    let (mut ra, mut ha) = ([r; 4], [HitOut::default(); 4]);
+                    let (mut rb, mut hb) = ([r; 4], [HitOut::default(); 4]);
+                    let a = render_sphere_pixel(&bound, &[], &[], &blobs, x, y, &mut ra, &mut ha, 0);
+                    let b = render_sphere_pixel(&plain, &[], &[], &blobs, x, y, &mut rb, &mut hb, 0);
+                    let mut rc = [r; 4];
+                    let cpu = trace_pixel_in(&cpu_field, &setup, x, y, &mut rc, [0, 4]);
+                    assert_eq!(a.steps, cpu.trace.stats.steps, "({x}, {y}) {mode:?}");
+                    assert_eq!(a.roots, cpu.trace.roots);
+                    assert_eq!(a.status, cpu.trace.status as u32);
+                    for k in 0..a.roots as usize {
+                        assert_eq!(ha[k].t.to_bits(), rc[k].t.to_bits());
+                    }
+                    assert!(a.steps >= b.steps, "({x}, {y}): a looser bound, fewer steps");
+                    more_steps += usize::from(a.steps > b.steps);
+                }
+            }
+        }
+        assert!(more_steps > 10, "{more_steps}");
     }
 
     #[test]

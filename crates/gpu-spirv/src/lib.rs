@@ -66,8 +66,9 @@
 //!
 //! Limits: `f32` only; the per-pixel root buffer of transparent mode holds
 //! [`MAX_GPU_ROOTS`] roots (more is a [`GpuError::MaxRoots`]); scenes with
-//! flat GPU data are the blob scenes (`blobs`, `blobs-sum`) — see
-//! [`GpuScene::from_scene`].
+//! flat GPU data are the blob scenes (`blobs`, `blobs-sum`) and
+//! `molecule` (Gaussian atoms, with its generator's global Lipschitz
+//! bound for sphere tracing) — see [`GpuScene::from_scene`].
 //!
 //! # Soundness on a GPU
 //! The interval code rounds outward from correctly rounded `+ − ×` (Vulkan
@@ -82,12 +83,14 @@
 //! estimate: one Newton step in `f64` and an exact midpoint test give the
 //! correctly rounded root), so they equal the CPU's on every driver with
 //! IEEE `f64` arithmetic ([`outward_probe`] checks the bounds against
-//! exact results and the CPU's). `f32` exponentials (Gaussian kernels,
-//! which the GPU scenes do not use yet) are `ia-core`'s own on SPIR-V too,
-//! within one step of `e^x` without the driver's `Exp`; `ln`, `sin`,
-//! `cos` and `pow` are still the driver's, with an unproven margin
-//! (issue 9, open). On lavapipe the GPU thus computes the CPU's
-//! bounds, bit for bit ([`arith_probe`], [`outward_probe`] and the
+//! exact results and the CPU's). `f32` exponentials (the `molecule`'s
+//! Gaussian kernels) are `ia-core`'s own on SPIR-V too, within one step
+//! of `e^x` without the driver's `Exp` (the CPU takes the platform's or
+//! `libm`'s `expf`: the molecule's frames agree within the difftests'
+//! thresholds, not bit for bit); `ln`, `sin`, `cos` and `pow` are still
+//! the driver's, with an unproven margin (issue 9, open; no GPU scene
+//! uses them). On lavapipe the GPU thus computes the CPU's bounds of the
+//! blob scenes bit for bit ([`arith_probe`], [`outward_probe`] and the
 //! difftests check it on the driver in use).
 //! Subnormals are assumed preserved (Vulkan allows flushing them).
 
@@ -283,17 +286,20 @@ pub struct GpuScene {
     blobs: Vec<PointBlob<f32>>,
     iso: f32,
     groups: u32,
+    /// The global Lipschitz bound that replaces the blobs' own (`0`: none).
+    lipschitz: f32,
 }
 
 impl GpuScene {
-    /// The flat data of a standard scene: `blobs` (union of blob groups)
-    /// and `blobs-sum` (one blob set).
+    /// The flat data of a standard scene: `blobs` (union of blob groups),
+    /// `blobs-sum` (one blob set) and `molecule` (one set of Gaussian
+    /// atoms with the global Lipschitz bound its generator computed, which
+    /// sphere tracing uses as on the CPU).
     ///
     /// # Errors
-    /// [`GpuError::UnsupportedScene`] for the other scenes: `molecule`
-    /// (its grid Lipschitz bound has no GPU data yet), the HRBF and SCALIS
-    /// scenes (no flat field yet), the blobtrees (their decoding does not
-    /// compile with rust-gpu 0.11).
+    /// [`GpuError::UnsupportedScene`] for the other scenes: the HRBF and
+    /// SCALIS scenes (no flat field yet), the blobtrees (their decoding
+    /// does not compile with rust-gpu 0.11).
     pub fn from_scene(scene: &Scene<f32>) -> Result<Self, GpuError> {
         let bounds = scene.bounds();
         let unsupported = |why: &str| {
@@ -310,6 +316,7 @@ impl GpuScene {
             blobs: Vec::new(),
             iso: 0.0,
             groups: 0,
+            lipschitz: 0.0,
         };
         match scene.field() {
             SceneField::Blobs(b) => {
@@ -338,8 +345,14 @@ impl GpuScene {
                      messages), which rust-gpu 0.11 cannot compile",
                 );
             }
-            SceneField::Molecule(_) => {
-                return unsupported("its grid Lipschitz bound is not uploaded yet");
+            SceneField::Molecule(m) => {
+                let l = m.bound();
+                if !(l > 0.0 && l.is_finite()) {
+                    return unsupported("its Lipschitz bound is not a positive number");
+                }
+                s.iso = m.field().iso();
+                s.blobs = m.field().blobs().to_vec();
+                s.lipschitz = l;
             }
             SceneField::Hrbf(_) => return unsupported("HRBF has no flat GPU field yet"),
             SceneField::Scalis(_) => return unsupported("SCALIS has no flat GPU field yet"),
@@ -804,6 +817,7 @@ impl GpuTracer {
         let (pipeline, resumable) = self.pipeline(settings.method, scene.kind)?;
         let c = Constants {
             leg_steps,
+            lipschitz: scene.lipschitz,
             ..Constants::new(&setup, scene.kind, scene.iso, slots, scene.groups)
         };
         let n = settings.width as usize * settings.height as usize;
@@ -1757,6 +1771,16 @@ mod tests {
         );
         let sum = Scene::<f32>::build("blobs-sum", DEFAULT_SEED).unwrap();
         assert_eq!(GpuScene::from_scene(&sum).unwrap().kind(), SceneKind::Blobs);
+        let mol = Scene::<f32>::build("molecule", DEFAULT_SEED).unwrap();
+        let m = GpuScene::from_scene(&mol).unwrap();
+        let SceneField::Molecule(w) = mol.field() else {
+            unreachable!("the molecule is a blob set with its bound")
+        };
+        assert_eq!(m.kind(), SceneKind::Blobs);
+        assert_eq!(
+            (m.blobs.len(), m.iso, m.lipschitz),
+            (500, w.field().iso(), w.bound())
+        );
         let agg = Scene::<f32>::build("aggregate-1", DEFAULT_SEED).unwrap();
         assert!(GpuScene::from_scene(&agg).is_err());
         let hrbf = Scene::<f32>::build("hrbf-8", DEFAULT_SEED).unwrap();
