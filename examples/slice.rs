@@ -224,7 +224,11 @@ fn print_table(times: &[[f64; 4]], n: u32, sample_2n: bool) {
 /// and the primitives whose supports contain them (what evaluating the
 /// field there costs with the per-ray lists). Returns `(centres,
 /// primitive evaluations)`.
-fn least_work(segments: &[ScalisSegment<f64>], bounds: [[f64; 3]; 2], st: &SliceStack) -> (u64, u64) {
+fn least_work(
+    segments: &[ScalisSegment<f64>],
+    bounds: [[f64; 3]; 2],
+    st: &SliceStack,
+) -> (u64, u64) {
     let s = st.settings();
     let [lo, hi] = bounds;
     let (dx, dy) = (

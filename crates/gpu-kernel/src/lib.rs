@@ -1209,7 +1209,11 @@ mod tests {
         let w = c.to_words();
         assert_eq!(core::mem::size_of::<Constants>(), 37 * 4);
         assert_eq!(w.len(), 37);
-        assert_eq!(w[36], 0.0f32.to_bits(), "no Lipschitz bound unless the host sets one");
+        assert_eq!(
+            w[36],
+            0.0f32.to_bits(),
+            "no Lipschitz bound unless the host sets one"
+        );
         assert_eq!(core::mem::size_of::<PixelLeg>(), 12 * 4);
         assert_eq!(w[34], GUARD_LOOPS);
         assert_eq!(w[28], Method::QuadraticMixed as u32);
@@ -1317,8 +1321,10 @@ mod tests {
                     };
                     let (mut ra, mut ha) = ([r; 4], [HitOut::default(); 4]);
                     let (mut rb, mut hb) = ([r; 4], [HitOut::default(); 4]);
-                    let a = render_sphere_pixel(&bound, &[], &[], &blobs, x, y, &mut ra, &mut ha, 0);
-                    let b = render_sphere_pixel(&plain, &[], &[], &blobs, x, y, &mut rb, &mut hb, 0);
+                    let a =
+                        render_sphere_pixel(&bound, &[], &[], &blobs, x, y, &mut ra, &mut ha, 0);
+                    let b =
+                        render_sphere_pixel(&plain, &[], &[], &blobs, x, y, &mut rb, &mut hb, 0);
                     let mut rc = [r; 4];
                     let cpu = trace_pixel_in(&cpu_field, &setup, x, y, &mut rc, [0, 4]);
                     assert_eq!(a.steps, cpu.trace.stats.steps, "({x}, {y}) {mode:?}");
@@ -1327,7 +1333,10 @@ mod tests {
                     for k in 0..a.roots as usize {
                         assert_eq!(ha[k].t.to_bits(), rc[k].t.to_bits());
                     }
-                    assert!(a.steps >= b.steps, "({x}, {y}): a looser bound, fewer steps");
+                    assert!(
+                        a.steps >= b.steps,
+                        "({x}, {y}): a looser bound, fewer steps"
+                    );
                     more_steps += usize::from(a.steps > b.steps);
                 }
             }
