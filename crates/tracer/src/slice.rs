@@ -262,6 +262,45 @@ fn bucket_segments(
         .collect()
 }
 
+/// The side in pixels of the tiles of a bucket whose rays share a
+/// candidate list ([`tile_candidates`]).
+const TILE: u32 = 4;
+
+/// Per [`TILE`]² tile of the bucket `[b0, b1)` (row-major), the indices of
+/// the bucket's segments whose support box contains the `(x, y)` of some
+/// pixel centre of the tile: the only supports its `z` rays can cross
+/// (the box test of [`RayPrimitives::build_among`] compares those coordinates
+/// exactly), so the per-ray lists built from them equal the full ones.
+fn tile_candidates(
+    segs: &[ScalisSegment<f64>],
+    b0: [u32; 2],
+    b1: [u32; 2],
+    lo: [f64; 3],
+    d: [f64; 2],
+) -> Vec<Vec<u32>> {
+    let centre = |i: usize, p: u32| lo[i] + (f64::from(p) + 0.5) * d[i];
+    let mut tiles = Vec::new();
+    for ty in (b0[1]..b1[1]).step_by(TILE as usize) {
+        let ys = [centre(1, ty), centre(1, (ty + TILE).min(b1[1]) - 1)];
+        for tx in (b0[0]..b1[0]).step_by(TILE as usize) {
+            let xs = [centre(0, tx), centre(0, (tx + TILE).min(b1[0]) - 1)];
+            let c = segs
+                .iter()
+                .enumerate()
+                .filter(|(_, s)| match s.support_box() {
+                    Some([l, h]) => {
+                        l[0] <= xs[1] && h[0] >= xs[0] && l[1] <= ys[1] && h[1] >= ys[0]
+                    }
+                    None => true,
+                })
+                .map(|(i, _)| i as u32)
+                .collect();
+            tiles.push(c);
+        }
+    }
+    tiles
+}
+
 /// How [`run`] fills a column of voxels.
 #[derive(Clone, Copy, PartialEq, Eq)]
 enum How {
@@ -420,6 +459,8 @@ fn run<S: AsRef<[ScalisSegment<f64>]>>(
             let sk = ScalisSkeleton::new(segs).map_err(|_| SliceError::Grid)?;
             let prims: Vec<Prim> = sk.segments().iter().map(Prim::new).collect();
             let mut storage = vec![crate::scalis::PrimitiveHit::empty(); sk.segments().len()];
+            let tiles = tile_candidates(sk.segments(), [bx, by], [ex, ey], lo, [dx, dy]);
+            let tiles_x = (ex - bx).div_ceil(TILE) as usize;
             // one row of the bucket at a time: `row[k·bw + x − bx]`, copied
             // slice by slice into the stack (contiguous writes)
             let bw = (ex - bx) as usize;
@@ -438,7 +479,14 @@ fn run<S: AsRef<[ScalisSegment<f64>]>>(
                     let py = lo[1] + (f64::from(y) + 0.5) * dy;
                     let ray = Ray::new([px, py, lo[2]], [0.0, 0.0, 1.0]);
                     let span = [0.0, hi[2] - lo[2]];
-                    let list = RayPrimitives::build(sk.segments(), &ray, span, &mut storage);
+                    let tile = ((y - by) / TILE) as usize * tiles_x + ((x - bx) / TILE) as usize;
+                    let list = RayPrimitives::build_among(
+                        sk.segments(),
+                        &tiles[tile],
+                        &ray,
+                        span,
+                        &mut storage,
+                    );
                     if list.hits().is_empty() {
                         continue;
                     }

@@ -164,22 +164,61 @@ impl<'a, T: Real> RayPrimitives<'a, T> {
             overflow: false,
         };
         for (i, s) in segments.iter().enumerate() {
-            let Some(h) = hit_of(s, i as u32, ray, span) else {
-                continue;
-            };
-            if out.len >= out.hits.len() {
-                out.overflow = true;
+            if !out.insert(hit_of(s, i as u32, ray, span)) {
                 break;
             }
-            let mut j = out.len;
-            while j > 0 && out.hits[j - 1].entry > h.entry {
-                out.hits[j] = out.hits[j - 1];
-                j -= 1;
-            }
-            out.hits[j] = h;
-            out.len += 1;
         }
         out
+    }
+
+    /// [`build`](Self::build) over the segments `candidates` of
+    /// `segments` only (indices into `segments`, in increasing order; an
+    /// index out of range is skipped): the same list as `build` whenever
+    /// the candidates hold every segment whose support the ray crosses,
+    /// e.g. those whose [`ScalisSegment::support_box`] meets a tile of
+    /// rays. Hits carry the index into `segments`.
+    pub fn build_among(
+        segments: &[ScalisSegment<T>],
+        candidates: &[u32],
+        ray: &Ray<T>,
+        span: [T; 2],
+        storage: &'a mut [PrimitiveHit<T>],
+    ) -> Self {
+        let mut out = Self {
+            hits: storage,
+            len: 0,
+            overflow: false,
+        };
+        for &i in candidates {
+            let Some(s) = segments.get(i as usize) else {
+                continue;
+            };
+            if !out.insert(hit_of(s, i, ray, span)) {
+                break;
+            }
+        }
+        out
+    }
+
+    /// Inserts `h` in entry order (after the equal entries: a stable
+    /// insertion sort); `false` when the storage is full (overflow).
+    #[inline]
+    fn insert(&mut self, h: Option<PrimitiveHit<T>>) -> bool {
+        let Some(h) = h else {
+            return true;
+        };
+        if self.len >= self.hits.len() {
+            self.overflow = true;
+            return false;
+        }
+        let mut j = self.len;
+        while j > 0 && self.hits[j - 1].entry > h.entry {
+            self.hits[j] = self.hits[j - 1];
+            j -= 1;
+        }
+        self.hits[j] = h;
+        self.len += 1;
+        true
     }
 
     /// The crossings, sorted by entry (incomplete when
@@ -373,6 +412,28 @@ mod tests {
             let d: f64 = s.density(ray.at::<f64>(hit.argmin, hit.argmin));
             assert!(d > 0.0);
         }
+    }
+
+    #[test]
+    fn lists_among_candidates_match_the_full_lists() {
+        let segs = three();
+        let ray = Ray::new([-2.0, 0.1, 0.05], [1.0, 0.0, 0.0]);
+        let (mut a, mut b) = ([PrimitiveHit::empty(); 4], [PrimitiveHit::empty(); 4]);
+        let full = RayPrimitives::build(&segs, &ray, [0.0, 10.0], &mut a);
+        // every crossed segment among the candidates (an unknown index is
+        // skipped): the same list, with the skeleton's indices
+        let among = RayPrimitives::build_among(&segs, &[0, 1, 7], &ray, [0.0, 10.0], &mut b);
+        assert_eq!(full.hits(), among.hits());
+        assert_eq!(among.hits().len(), 2);
+        // a crossed segment left out is not listed
+        let mut c = [PrimitiveHit::empty(); 4];
+        let part = RayPrimitives::build_among(&segs, &[0, 2], &ray, [0.0, 10.0], &mut c);
+        assert_eq!(part.hits().len(), 1);
+        assert_eq!(part.hits()[0].index, 0);
+        // overflow as in `build`
+        let mut d = [PrimitiveHit::empty(); 1];
+        let small = RayPrimitives::build_among(&segs, &[0, 1], &ray, [0.0, 10.0], &mut d);
+        assert!(small.overflowed());
     }
 
     #[test]
