@@ -10,6 +10,8 @@
 //!   them), always built;
 //! - `outward_ops`: the outward-rounding probe (`ia-core`'s quotient and
 //!   square-root bounds on the GPU), always built;
+//! - `transcendental_ops` and `pow_ops`: `ia-core`'s `exp`, `ln` and `pow`
+//!   interval bounds on the GPU, always built;
 //! - `trace_sphere`: sphere tracing in resumable legs
 //!   (`render_sphere_leg`), feature `sphere` (default): a driver that
 //!   inlines every call (lavapipe) compiles it;
@@ -89,6 +91,45 @@ pub fn outward_ops(
         data[i + 1] = round::div_up(a, b);
         data[i + 2] = round::sqrt_down(a.abs());
         data[i + 3] = round::sqrt_up(a.abs());
+    }
+}
+
+/// Transcendental probe: for each `[a, b, _, _]` in `data`, writes the
+/// bounds of `ia-core`'s `Interval` `exp([a, a])` and `ln([|a|, |a|])`,
+/// `[exp_lo, exp_hi, ln_lo, ln_hi]`, as compiled to SPIR-V (`ia-core`'s
+/// own `f32` `exp` and `ln` there, not the driver's), for the host to
+/// check that they enclose the exact results.
+#[spirv(compute(threads(64)))]
+pub fn transcendental_ops(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] data: &mut [f32],
+) {
+    let i = id.x as usize * 4;
+    if i + 3 < data.len() {
+        let a = data[i];
+        let e = Interval::point(a).exp();
+        let l = Interval::point(a.abs()).ln();
+        data[i] = e.lo();
+        data[i + 1] = e.hi();
+        data[i + 2] = l.lo();
+        data[i + 3] = l.hi();
+    }
+}
+
+/// Power probe: for each `[a, b, _, _]` in `data`, writes the bounds of
+/// `Interval::pow([|a|, |a|], b)` (`ia-core`'s own `f32` `pow` on
+/// SPIR-V), `[pow_lo, pow_hi, a, b]`.
+#[spirv(compute(threads(64)))]
+pub fn pow_ops(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] data: &mut [f32],
+) {
+    let i = id.x as usize * 4;
+    if i + 3 < data.len() {
+        let (a, b) = (data[i], data[i + 1]);
+        let r = Interval::point(a.abs()).pow(b);
+        data[i] = r.lo();
+        data[i + 1] = r.hi();
     }
 }
 

@@ -87,7 +87,10 @@
 //! Gaussian kernels) are `ia-core`'s own on SPIR-V too, within one step
 //! of `e^x` without the driver's `Exp` (the CPU takes the platform's or
 //! `libm`'s `expf`: the molecule's frames agree within the difftests'
-//! thresholds, not bit for bit); `ln`, `sin`, `cos` and `pow` are still
+//! thresholds, not bit for bit), and so are `f32` logarithms and powers
+//! (`x^p` for `x > 0`): `f64` series and one rounding, within one step
+//! ([`transcendental_probe`] and [`pow_probe`] check the interval bounds
+//! against exact results on the driver in use); `sin` and `cos` are still
 //! the driver's, with an unproven margin (issue 9, open; no GPU scene
 //! uses them). On lavapipe the GPU thus computes the CPU's bounds of the
 //! blob scenes bit for bit ([`arith_probe`], [`outward_probe`] and the
@@ -622,7 +625,8 @@ impl GpuTracer {
     }
 
     /// The names of the compute entry points of the module
-    /// (`trace_sphere`, `interval_square`, `arith_ops`, `outward_ops`, and
+    /// (`trace_sphere`, `interval_square`, `arith_ops`, `outward_ops`,
+    /// `transcendental_ops`, `pow_ops`, and
     /// `trace_pixels` when built with the `trace` feature) and of the leg
     /// modules (`trace_segment_blobs`, `trace_linear_taylor_groups`, …, and
     /// their own probes), without repeats.
@@ -1555,6 +1559,32 @@ pub fn arith_probe(pairs: &[[f32; 2]]) -> Result<(Vec<[f32; 4]>, wgpu::AdapterIn
 /// As [`interval_probe`].
 pub fn outward_probe(pairs: &[[f32; 2]]) -> Result<(Vec<[f32; 4]>, wgpu::AdapterInfo), GpuError> {
     pair_probe("outward_ops", pairs)
+}
+
+/// Runs the module's `transcendental_ops` entry point on `pairs`: the
+/// bounds `[exp_lo, exp_hi, ln_lo, ln_hi]` of `ia-core`'s
+/// `Interval::exp([a, a])` and `Interval::ln([|a|, |a|])` for each
+/// `[a, b]` (`b` unused), as the module computes them on the driver
+/// (`ia-core`'s own `f32` `exp` and `ln` on SPIR-V), with the adapter
+/// used; `tests/probe.rs` checks that they enclose the exact results.
+///
+/// # Errors
+/// As [`interval_probe`].
+pub fn transcendental_probe(
+    pairs: &[[f32; 2]],
+) -> Result<(Vec<[f32; 4]>, wgpu::AdapterInfo), GpuError> {
+    pair_probe("transcendental_ops", pairs)
+}
+
+/// Runs the module's `pow_ops` entry point on `pairs`: `[pow_lo, pow_hi,
+/// a, b]`, the bounds of `ia-core`'s `Interval::pow([|a|, |a|], b)` for
+/// each `[a, b]` on the driver (`ia-core`'s own `f32` `pow` on SPIR-V
+/// for a non-integer `b`), with the adapter used.
+///
+/// # Errors
+/// As [`interval_probe`].
+pub fn pow_probe(pairs: &[[f32; 2]]) -> Result<(Vec<[f32; 4]>, wgpu::AdapterInfo), GpuError> {
+    pair_probe("pow_ops", pairs)
 }
 
 /// Runs a probe entry point that maps each `[a, b, _, _]` of its buffer to

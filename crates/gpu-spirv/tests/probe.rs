@@ -4,7 +4,9 @@
 //! adapter; with `CI` set (`true`/`1`) their absence FAILS the test, else it
 //! is skipped loudly.
 
-use boundtrace_gpu::{GpuError, arith_probe, interval_probe, outward_probe};
+use boundtrace_gpu::{
+    GpuError, arith_probe, interval_probe, outward_probe, pow_probe, transcendental_probe,
+};
 use boundtrace_ia_core::{Interval, round};
 
 /// A probe's result; `None` (the test is skipped, loudly) without an
@@ -235,4 +237,106 @@ fn outward_check_rejects_narrow_bounds() {
     assert_eq!(outward_failure(a, b, ok), None);
     assert!(outward_failure(a, b, [ok[0], ok[1], r.next_up(), r.next_up()]).is_some());
     assert!(outward_failure(-a, b, ok).is_some());
+}
+
+/// Why `[lo, hi]` fails to be a tight enclosure of the exact value `e`
+/// (given in `f64`, within `10⁻¹⁵` relative of it): `None` when `lo ≤ e ≤
+/// hi` with a margin of the `f64` error, and `hi` at most `max_steps`
+/// float steps above `lo` (finite bounds).
+fn enclosure_failure(what: &str, lo: f32, hi: f32, e: f64, max_steps: u64) -> Option<String> {
+    let m = e.abs() * 1e-14;
+    if !(f64::from(lo) <= e - m && e + m <= f64::from(hi)) {
+        return Some(format!("{what}: [{lo:e}, {hi:e}] misses {e:e}"));
+    }
+    if lo.is_finite() && hi.is_finite() && lo.signum() == hi.signum() && lo != 0.0 {
+        let steps = (hi.to_bits() as i64 - lo.to_bits() as i64).unsigned_abs();
+        if steps > max_steps {
+            return Some(format!("{what}: [{lo:e}, {hi:e}] is {steps} steps wide"));
+        }
+    }
+    None
+}
+
+/// `ia-core`'s interval `exp`, `ln` and `pow` on the GPU (its own `f32`
+/// functions on SPIR-V, not the driver's `Exp`, `Log`, `Pow`, whose
+/// Vulkan precision the widening would not cover) enclose the exact
+/// results (`f64`), on 20,000 arguments over many magnitudes (exponents
+/// folded into `(-90, 90)` for `exp` and `(-6, 6)` for `pow`) and
+/// edge cases; the bounds are at most `2·8 + 2` steps wide (8 steps of
+/// widening each way on SPIR-V, around a result within one step). The
+/// check rejects a bound one step too narrow
+/// (`enclosure_check_rejects_narrow_bounds`).
+#[test]
+fn exp_ln_and_pow_bounds_enclose_exact_results() {
+    let mut pairs: Vec<[f32; 2]> = spread_pairs(20_000)
+        .into_iter()
+        .map(|[a, b]| [a % 90.0, b % 6.0])
+        .collect();
+    pairs.extend([
+        [0.0, 0.5],
+        [1.0, 2.5],
+        [-1.0, -0.5],
+        [88.7, 1.5],
+        [-103.0, 0.25],
+        [f32::MIN_POSITIVE, 3.5],
+        [f32::from_bits(1), 0.5],
+        [f32::MAX, 0.1],
+        [0.5, -7.5],
+        [2.0, 0.333],
+    ]);
+    let Some((gpu, info)) = ran(transcendental_probe(&pairs)) else {
+        return;
+    };
+    let Some((gpu_pow, _)) = ran(pow_probe(&pairs)) else {
+        return;
+    };
+    let mut bad = Vec::new();
+    for ((&[a, b], g), gp) in pairs.iter().zip(&gpu).zip(&gpu_pow) {
+        let ea = f64::from(a).exp();
+        if ea <= f64::from(f32::MAX) && ea >= f64::from(f32::MIN_POSITIVE) {
+            bad.extend(enclosure_failure(
+                &format!("exp({a:e})"),
+                g[0],
+                g[1],
+                ea,
+                18,
+            ));
+        }
+        let x = a.abs();
+        if x > 0.0 && x.is_finite() {
+            let el = f64::from(x).ln();
+            bad.extend(enclosure_failure(&format!("ln({x:e})"), g[2], g[3], el, 18));
+            let ep = f64::from(x).powf(f64::from(b));
+            if b.fract() != 0.0 && ep <= f64::from(f32::MAX) && ep >= f64::from(f32::MIN_POSITIVE) {
+                bad.extend(enclosure_failure(
+                    &format!("{x:e}^{b:e}"),
+                    gp[0],
+                    gp[1],
+                    ep,
+                    18,
+                ));
+            }
+        }
+    }
+    eprintln!(
+        "{} ({:?}): {} arguments, {} bounds wrong",
+        info.name,
+        info.device_type,
+        pairs.len(),
+        bad.len()
+    );
+    assert!(bad.is_empty(), "{}", bad.join("\n"));
+}
+
+/// The checker of [`exp_ln_and_pow_bounds_enclose_exact_results`] can
+/// fail: a bound one step inside the exact value, or too wide, is caught.
+#[test]
+fn enclosure_check_rejects_narrow_bounds() {
+    let e = 2f64.ln();
+    let y = e as f32;
+    let (lo, hi) = (y.next_down(), y.next_up());
+    assert_eq!(enclosure_failure("ln 2", lo, hi, e, 2), None);
+    // round to nearest is on one side of the exact value
+    assert!(enclosure_failure("ln 2", y, y, e, 2).is_some());
+    assert!(enclosure_failure("ln 2", lo, hi, e, 1).is_some());
 }

@@ -19,15 +19,17 @@ pub(crate) const TRANSCENDENTAL_ULPS: u32 = 2;
 /// Float steps an `exp`, `ln`, `sin`, `cos` or `pow` result is widened by.
 ///
 /// On SPIR-V the margin is wider, but **not proven sound on every
-/// driver** for `ln`, `sin`, `cos`, `pow` and the `f64` `exp`: rust-gpu
-/// 0.11 replaces the calls to `libm`'s `logf`, `sinf`, `cosf`, `powf` (and
-/// the `f64` forms) with GLSL.std.450 instructions (`rustc_codegen_spirv`'s
-/// libm intrinsics), whose Vulkan precision is coarser than 8 steps in
-/// places: `Log` 3 ulp or 2⁻²¹ absolute, `Sin`/`Cos` 2⁻¹¹ absolute on
-/// [−π, π], `Pow` inherited from `exp2(y·log2 x)`, `Exp` 3 + 2·|x| ulp.
-/// The `f32` `exp` (Gaussian kernels) does not use the driver's `Exp`:
-/// [`exp_f32`] is within one step on any driver with IEEE `f64` `+`, `×`,
-/// so 2 steps would do for it; the 8 steps are kept for the others.
+/// driver** for `sin`, `cos` and the `f64` forms of every function:
+/// rust-gpu 0.11 replaces the calls to `libm`'s `sinf`, `cosf` (and the
+/// `f64` `exp`, `log`, `sin`, `cos`, `pow`) with GLSL.std.450 instructions
+/// (`rustc_codegen_spirv`'s libm intrinsics), whose Vulkan precision is
+/// coarser than 8 steps in places: `Sin`/`Cos` 2⁻¹¹ absolute on [−π, π],
+/// `Log` 3 ulp or 2⁻²¹ absolute, `Pow` inherited from `exp2(y·log2 x)`,
+/// `Exp` 3 + 2·|x| ulp. The `f32` `exp`, `ln` and `pow` do not use the
+/// driver's instructions: [`exp_f32`], [`ln_f32`] and [`pow_f32`] (for
+/// `x > 0`, what the interval code asks for) are within one step on any
+/// driver with IEEE `f64` `+`, `×` (and a quotient within a few ulp), so
+/// 2 steps would do for them; the 8 steps are kept for the others.
 #[cfg(target_arch = "spirv")]
 pub(crate) const TRANSCENDENTAL_ULPS: u32 = 8;
 
@@ -77,7 +79,7 @@ pub trait Math: Copy {
 }
 
 macro_rules! impl_math {
-    ($t:ty, $exp:ident, $exp_spirv:path, $ln:ident, $sin:ident, $cos:ident, $pow:ident, $sqrt:ident, $sqrt_spirv:path, $div:ident, $steps:ident) => {
+    ($t:ty, $exp:ident, $exp_spirv:path, $ln:ident, $ln_spirv:path, $sin:ident, $cos:ident, $pow:ident, $pow_spirv:path, $sqrt:ident, $sqrt_spirv:path, $div:ident, $steps:ident) => {
         #[cfg(feature = "libm")]
         impl Math for $t {
             #[cfg_attr(not(target_arch = "spirv"), inline)]
@@ -93,7 +95,14 @@ macro_rules! impl_math {
             }
             #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn m_ln(self) -> Self {
-                libm::$ln(self)
+                #[cfg(target_arch = "spirv")]
+                {
+                    $ln_spirv(self)
+                }
+                #[cfg(not(target_arch = "spirv"))]
+                {
+                    libm::$ln(self)
+                }
             }
             #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn m_sin(self) -> Self {
@@ -105,7 +114,14 @@ macro_rules! impl_math {
             }
             #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn m_pow(self, p: Self) -> Self {
-                libm::$pow(self, p)
+                #[cfg(target_arch = "spirv")]
+                {
+                    $pow_spirv(self, p)
+                }
+                #[cfg(not(target_arch = "spirv"))]
+                {
+                    libm::$pow(self, p)
+                }
             }
             #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn m_sqrt(self) -> Self {
@@ -165,9 +181,11 @@ impl_math!(
     expf,
     exp_f32,
     logf,
+    ln_f32,
     sinf,
     cosf,
     powf,
+    pow_f32,
     sqrtf,
     sqrt_f32,
     f32_div,
@@ -178,9 +196,11 @@ impl_math!(
     exp,
     libm::exp,
     log,
+    libm::log,
     sin,
     cos,
     pow,
+    libm::pow,
     sqrt,
     libm::sqrt,
     f64_div,
@@ -305,13 +325,19 @@ fn correct_root(x: f32, ok: bool, s: f32) -> f32 {
 #[cfg_attr(not(target_arch = "spirv"), allow(dead_code))]
 #[cfg_attr(not(target_arch = "spirv"), inline)]
 pub(crate) fn exp_f32(x: f32) -> f32 {
-    /// `ln 2` to 32 significant bits (fdlibm's `ln2_hi`, low 21 bits of
-    /// the significand zero) and the rest (`ln2_lo`).
-    const LN2_HI: f64 = f64::from_bits(0x3FE6_2E42_FEE0_0000);
-    const LN2_LO: f64 = f64::from_bits(0x3DEA_39EF_3579_3C76);
     // clamped by bit selects; NaN compares false and stays NaN (replaced
     // by `x` at the end)
     let c = select_f32(x > 100.0, 100.0, select_f32(x < -110.0, -110.0, x)) as f64;
+    let y = exp_to_f32(c);
+    select_f32(x.is_nan(), x, y)
+}
+
+/// `e^c` rounded once to `f32`, for `c ∈ [−110, 100]` (steps 1–3 of
+/// [`exp_f32`]; a NaN `c` gives some number): within one `f32` step of the
+/// exact `e^c` (relative error below `10⁻¹⁴` before the rounding).
+#[cfg_attr(not(target_arch = "spirv"), allow(dead_code))]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
+fn exp_to_f32(c: f64) -> f32 {
     // k = ⌊c·log₂e + ½⌋: the argument is ≥ 200.5 − 158.7 > 0, so the
     // truncating conversion is the floor (a NaN converts to some integer:
     // its result is replaced below)
@@ -335,8 +361,105 @@ pub(crate) fn exp_f32(x: f32) -> f32 {
     let k1 = k / 2;
     let k2 = k - k1;
     let pow2 = |e: i32| f32::from_bits(((e + 127) as u32) << 23) as f64;
-    let y = (p * pow2(k1) * pow2(k2)) as f32;
-    select_f32(x.is_nan(), x, y)
+    (p * pow2(k1) * pow2(k2)) as f32
+}
+
+/// `ln 2` to 32 significant bits (fdlibm's `ln2_hi`, low 21 bits of the
+/// significand zero): `k·ln2_hi` is exact for `|k| < 2²¹`.
+const LN2_HI: f64 = f64::from_bits(0x3FE6_2E42_FEE0_0000);
+/// `ln 2 − ln2_hi` (fdlibm's `ln2_lo`).
+const LN2_LO: f64 = f64::from_bits(0x3DEA_39EF_3579_3C76);
+
+/// `a` where `c`, else `b` (`f64`), selected on the bits as
+/// [`select_f32`].
+#[cfg_attr(not(target_arch = "spirv"), allow(dead_code))]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
+fn select_f64(c: bool, a: f64, b: f64) -> f64 {
+    let mask = 0u64.wrapping_sub(u64::from(c));
+    f64::from_bits((a.to_bits() & mask) | (b.to_bits() & !mask))
+}
+
+/// `ln x` in `f64` for a positive finite `f32` `x` (subnormals included),
+/// with a relative error of a few `10⁻¹⁶` (any other `x` gives some
+/// number): `x = 2^e·m`, `m ∈ [√½, √2)` from the bits (subnormals scaled
+/// by `2²⁴` first, exactly), `ln m = 2 atanh s`, `s = (m − 1)/(m + 1)`,
+/// `|s| ≤ 0.1716`, by its odd series to `s²¹` (truncation below
+/// `10⁻¹⁸` relative), and `e·ln 2` with `ln2_hi` exact in the product.
+/// No cancellation: `|ln m| ≤ 0.347 < ln 2 ≤ |e·ln 2|` when `e ≠ 0`.
+/// Assumes correctly rounded `f64` `+`, `×` and a quotient within a few
+/// ulp (Vulkan: 2.5 ulp). No branches and no loops.
+#[cfg_attr(not(target_arch = "spirv"), allow(dead_code))]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
+fn ln_f64_of_f32(x: f32) -> f64 {
+    let sub = x < f32::MIN_POSITIVE;
+    let xs = select_f32(sub, x * 16_777_216.0, x);
+    let bits = xs.to_bits();
+    let e = ((bits >> 23) & 0xFF) as i32 - 127 - 24 * i32::from(sub);
+    // m ∈ [1, 2), halved (exactly) above √2
+    let m = f32::from_bits((bits & 0x007F_FFFF) | 0x3F80_0000) as f64;
+    let big = m > core::f64::consts::SQRT_2;
+    let m = select_f64(big, m * 0.5, m);
+    let e = e + i32::from(big);
+    let s = (m - 1.0) / (m + 1.0);
+    let s2 = s * s;
+    let mut q = 1.0 / 21.0;
+    q = q * s2 + 1.0 / 19.0;
+    q = q * s2 + 1.0 / 17.0;
+    q = q * s2 + 1.0 / 15.0;
+    q = q * s2 + 1.0 / 13.0;
+    q = q * s2 + 1.0 / 11.0;
+    q = q * s2 + 1.0 / 9.0;
+    q = q * s2 + 1.0 / 7.0;
+    q = q * s2 + 1.0 / 5.0;
+    q = q * s2 + 1.0 / 3.0;
+    q = q * s2 + 1.0;
+    let ln_m = 2.0 * s * q;
+    let ed = e as f64;
+    ed * LN2_HI + (ed * LN2_LO + ln_m)
+}
+
+/// The natural logarithm of an `f32` without the driver's `Log`: what
+/// [`Math::m_ln`] of `f32` is on SPIR-V (Vulkan requires `Log` only to
+/// 3 ulp outside `[0.5, 2]` and to `2⁻²¹` absolute inside).
+///
+/// [`ln_f64_of_f32`] rounded once to `f32`: within one `f32` step of
+/// `ln x` (correctly rounded except within `10⁻¹⁵` relative of a
+/// midpoint); `ln 1 = 0`, `ln 0 = −∞`, `ln ∞ = ∞`, NaN for a negative `x`
+/// or NaN. No branches. Tested against `f64` `ln` on the CPU.
+#[cfg_attr(not(target_arch = "spirv"), allow(dead_code))]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
+pub(crate) fn ln_f32(x: f32) -> f32 {
+    let y = ln_f64_of_f32(x) as f32;
+    let y = select_f32(x == 0.0, f32::NEG_INFINITY, y);
+    let y = select_f32(x == f32::INFINITY, x, y);
+    select_f32(x >= 0.0, y, f32::NAN)
+}
+
+/// `x^p` of `f32`s without the driver's `Pow`: what [`Math::m_pow`] of
+/// `f32` is on SPIR-V (Vulkan: inherited from `exp2(p·log2 x)`, no ulp
+/// bound).
+///
+/// For a positive finite `x` and a finite `p` (what `Interval::powf` asks
+/// for: `x ≥ 0`, with `0`, `1` and `∞` taken exactly there),
+/// `e^{p·ln x}` in `f64`: [`ln_f64_of_f32`], the product (`|p·ln x|` is
+/// clamped to `[−110, 100]`, beyond which the `f32` result is `0` resp.
+/// `+∞` either way: the absolute error of the exponent stays below
+/// `2·10⁻¹³`, a relative `2·10⁻¹³` of the result), and [`exp_to_f32`]:
+/// within one `f32` step of `x^p`. Other arguments (`x ≤ 0`, infinities,
+/// NaNs) keep `libm`'s `powf`, which rust-gpu makes the driver's `Pow`.
+/// No branches. Tested against `f64` `powf` on the CPU.
+#[cfg(any(feature = "std", feature = "libm"))]
+#[cfg_attr(not(target_arch = "spirv"), allow(dead_code))]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
+pub(crate) fn pow_f32(x: f32, p: f32) -> f32 {
+    let ok = x > 0.0 && x < f32::INFINITY && p.is_finite();
+    let y = f64::from(p) * ln_f64_of_f32(x);
+    let c = select_f64(y > 100.0, 100.0, select_f64(y < -110.0, -110.0, y));
+    #[cfg(feature = "libm")]
+    let other = libm::powf(x, p);
+    #[cfg(all(feature = "std", not(feature = "libm")))]
+    let other = f32::powf(x, p);
+    select_f32(ok, exp_to_f32(c), other)
 }
 
 /// [`Math::DIV_STEPS`] of `f32`: correctly rounded everywhere.
@@ -464,6 +587,99 @@ mod tests {
         assert_eq!(exp_f32(f32::NEG_INFINITY), 0.0);
         assert_eq!(exp_f32(-200.0), 0.0);
         assert_eq!(exp_f32(0.0), 1.0);
+    }
+
+    /// Whether `y` lies within one `f32` step of the exact `e` (given in
+    /// `f64`, itself within `10⁻¹⁵` relative of the exact value): `e`
+    /// strictly between `y`'s neighbours.
+    fn within_one_step(y: f32, e: f64) -> bool {
+        f64::from(y.next_down_n(1)) < e && e < f64::from(y.next_up_n(1))
+    }
+
+    /// `ln_f32` is within one `f32` step of `ln x` (the `f64` `ln`) on a
+    /// million spread positive `f32`s (every binade, subnormals
+    /// included), a fine sweep around `1` and the edges, and correctly
+    /// rounded on nearly all of them.
+    #[test]
+    fn ln_f32_is_within_one_step() {
+        let sweep = (0..=200_000).map(|i| 0.5 + i as f32 * 1e-5);
+        let (mut checked, mut rounded) = (0u32, 0u32);
+        for x in spread(1_000_000).chain(sweep).chain(EDGES) {
+            let y = ln_f32(x);
+            let e = f64::from(x).ln();
+            assert!(within_one_step(y, e), "ln({x:e}) = {y}, exact {e}");
+            checked += 1;
+            rounded += u32::from(y == e as f32);
+        }
+        assert!(
+            f64::from(rounded) >= 0.9999 * f64::from(checked),
+            "{rounded}/{checked}"
+        );
+        assert_eq!(ln_f32(1.0).to_bits(), 0.0f32.to_bits());
+        assert_eq!(ln_f32(0.0), f32::NEG_INFINITY);
+        assert_eq!(ln_f32(-0.0), f32::NEG_INFINITY);
+        assert_eq!(ln_f32(f32::INFINITY), f32::INFINITY);
+        assert!(ln_f32(-1.0).is_nan());
+        assert!(ln_f32(f32::NEG_INFINITY).is_nan());
+        assert!(ln_f32(f32::NAN).is_nan());
+    }
+
+    /// `pow_f32` is within one `f32` step of `x^p` (the `f64` `powf`) for
+    /// positive finite `x` and finite `p` whose result is finite and not
+    /// subnormal, and takes `powf` for the other arguments.
+    #[test]
+    fn pow_f32_is_within_one_step() {
+        let mut state = 0x9E37_79B9_7F4A_7C15u64;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let (mut checked, mut rounded) = (0u32, 0u32);
+        for _ in 0..500_000 {
+            // x over 2^-40 .. 2^40, p over -12 .. 12
+            let x = (2.0f64.powf(80.0 * next() - 40.0)) as f32;
+            let p = (24.0 * next() - 12.0) as f32;
+            let e = f64::from(x).powf(f64::from(p));
+            let y = pow_f32(x, p);
+            if e > f64::from(f32::MAX) {
+                assert_eq!(y, f32::INFINITY, "{x}^{p}");
+                continue;
+            }
+            if e < f64::from(f32::MIN_POSITIVE) {
+                continue; // subnormal results: not covered below
+            }
+            assert!(within_one_step(y, e), "{x:e}^{p} = {y:e}, exact {e:e}");
+            checked += 1;
+            rounded += u32::from(y == e as f32);
+        }
+        assert!(checked > 250_000, "{checked}");
+        assert!(
+            f64::from(rounded) >= 0.9999 * f64::from(checked),
+            "{rounded}/{checked}"
+        );
+        for (x, p) in [(2.0f32, 0.5f32), (10.0, -2.5), (1.0e-3, 1.7), (3.0, 80.5)] {
+            let e = f64::from(x).powf(f64::from(p));
+            assert!(within_one_step(pow_f32(x, p), e), "{x}^{p}");
+        }
+        // beyond f32's range: 0 and ∞, as the exact result rounds
+        assert_eq!(pow_f32(1.0e-30, 5.5), 0.0);
+        assert_eq!(pow_f32(1.0e30, 5.5), f32::INFINITY);
+        assert_eq!(pow_f32(1.0, 0.5), 1.0);
+        // the other arguments: `powf`'s
+        for (x, p) in [
+            (0.0f32, 0.5f32),
+            (-2.0, 0.5),
+            (f32::INFINITY, 0.5),
+            (2.0, f32::NAN),
+        ] {
+            let (a, b) = (pow_f32(x, p), x.powf(p));
+            assert!(
+                a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan()),
+                "{x}^{p}"
+            );
+        }
     }
 
     #[test]
