@@ -10,8 +10,8 @@
 //!   them), always built;
 //! - `outward_ops`: the outward-rounding probe (`ia-core`'s quotient and
 //!   square-root bounds on the GPU), always built;
-//! - `transcendental_ops` and `pow_ops`: `ia-core`'s `exp`, `ln` and `pow`
-//!   interval bounds on the GPU, always built;
+//! - `transcendental_ops`, `pow_ops` and `trig_ops`: `ia-core`'s `exp`,
+//!   `ln`, `pow`, `sin` and `cos` interval bounds on the GPU, always built;
 //! - `trace_sphere`: sphere tracing in resumable legs
 //!   (`render_sphere_leg`), feature `sphere` (default): a driver that
 //!   inlines every call (lavapipe) compiles it;
@@ -130,6 +130,26 @@ pub fn pow_ops(
         let r = Interval::point(a.abs()).pow(b);
         data[i] = r.lo();
         data[i + 1] = r.hi();
+    }
+}
+
+/// Trigonometric probe: for each `[a, b, _, _]` in `data`, writes the
+/// bounds of `Interval::sin([a, a])` and `Interval::cos([a, a])`,
+/// `[sin_lo, sin_hi, cos_lo, cos_hi]` (`ia-core`'s own `f32` `sin` and
+/// `cos` on SPIR-V).
+#[spirv(compute(threads(64)))]
+pub fn trig_ops(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] data: &mut [f32],
+) {
+    let i = id.x as usize * 4;
+    if i + 3 < data.len() {
+        let x = Interval::point(data[i]);
+        let (s, c) = (x.sin(), x.cos());
+        data[i] = s.lo();
+        data[i + 1] = s.hi();
+        data[i + 2] = c.lo();
+        data[i + 3] = c.hi();
     }
 }
 

@@ -87,12 +87,13 @@
 //! Gaussian kernels) are `ia-core`'s own on SPIR-V too, within one step
 //! of `e^x` without the driver's `Exp` (the CPU takes the platform's or
 //! `libm`'s `expf`: the molecule's frames agree within the difftests'
-//! thresholds, not bit for bit), and so are `f32` logarithms and powers
-//! (`x^p` for `x > 0`): `f64` series and one rounding, within one step
-//! ([`transcendental_probe`] and [`pow_probe`] check the interval bounds
-//! against exact results on the driver in use); `sin` and `cos` are still
-//! the driver's, with an unproven margin (issue 9, open; no GPU scene
-//! uses them). On lavapipe the GPU thus computes the CPU's bounds of the
+//! thresholds, not bit for bit), and so are `f32` logarithms, powers
+//! (`x^p` for `x > 0`), sines and cosines (`|x| < 2²⁸`; beyond, the
+//! interval bound is `[−1, 1]`): `f64` series and one rounding, within one
+//! step ([`transcendental_probe`], [`pow_probe`] and [`trig_probe`] check
+//! the interval bounds against exact results on the driver in use). Only
+//! `f64` transcendental functions remain the driver's (the GPU tracer
+//! computes in `f32`). On lavapipe the GPU thus computes the CPU's bounds of the
 //! blob scenes bit for bit ([`arith_probe`], [`outward_probe`] and the
 //! difftests check it on the driver in use).
 //! Subnormals are assumed preserved (Vulkan allows flushing them).
@@ -626,7 +627,7 @@ impl GpuTracer {
 
     /// The names of the compute entry points of the module
     /// (`trace_sphere`, `interval_square`, `arith_ops`, `outward_ops`,
-    /// `transcendental_ops`, `pow_ops`, and
+    /// `transcendental_ops`, `pow_ops`, `trig_ops`, and
     /// `trace_pixels` when built with the `trace` feature) and of the leg
     /// modules (`trace_segment_blobs`, `trace_linear_taylor_groups`, …, and
     /// their own probes), without repeats.
@@ -1585,6 +1586,18 @@ pub fn transcendental_probe(
 /// As [`interval_probe`].
 pub fn pow_probe(pairs: &[[f32; 2]]) -> Result<(Vec<[f32; 4]>, wgpu::AdapterInfo), GpuError> {
     pair_probe("pow_ops", pairs)
+}
+
+/// Runs the module's `trig_ops` entry point on `pairs`: `[sin_lo,
+/// sin_hi, cos_lo, cos_hi]`, the bounds of `ia-core`'s
+/// `Interval::sin([a, a])` and `Interval::cos([a, a])` for each `[a, b]`
+/// (`b` unused) on the driver (`ia-core`'s own `f32` `sin` and `cos` on
+/// SPIR-V), with the adapter used.
+///
+/// # Errors
+/// As [`interval_probe`].
+pub fn trig_probe(pairs: &[[f32; 2]]) -> Result<(Vec<[f32; 4]>, wgpu::AdapterInfo), GpuError> {
+    pair_probe("trig_ops", pairs)
 }
 
 /// Runs a probe entry point that maps each `[a, b, _, _]` of its buffer to

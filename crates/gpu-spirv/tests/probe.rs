@@ -6,6 +6,7 @@
 
 use boundtrace_gpu::{
     GpuError, arith_probe, interval_probe, outward_probe, pow_probe, transcendental_probe,
+    trig_probe,
 };
 use boundtrace_ia_core::{Interval, round};
 
@@ -316,6 +317,63 @@ fn exp_ln_and_pow_bounds_enclose_exact_results() {
                     18,
                 ));
             }
+        }
+    }
+    eprintln!(
+        "{} ({:?}): {} arguments, {} bounds wrong",
+        info.name,
+        info.device_type,
+        pairs.len(),
+        bad.len()
+    );
+    assert!(bad.is_empty(), "{}", bad.join("\n"));
+}
+
+/// `ia-core`'s interval `sin` and `cos` of point arguments on the GPU
+/// (its own `f32` functions on SPIR-V) enclose the exact values (`f64`,
+/// full argument reduction) on 20,000 arguments over `2^-60 … 2^60` (the
+/// bounds of those beyond `2²⁸` must be `[−1, 1]` on SPIR-V, and are
+/// only checked to enclose) and the `f32`s next to multiples of `π/2`;
+/// bounds at most `2·8 + 2` steps wide below `2²⁸` (except where they
+/// reach `±1`, clamped).
+#[test]
+fn sin_and_cos_bounds_enclose_exact_results() {
+    let mut pairs = spread_pairs(20_000);
+    for i in 1..500u64 {
+        let x = ((i * i * 97) as f64 * std::f64::consts::FRAC_PI_2) as f32;
+        pairs.extend([[x.next_down(), 0.0], [x, 0.0], [x.next_up(), 0.0]]);
+    }
+    pairs.extend([
+        [0.0, 0.0],
+        [-0.0, 0.0],
+        [1.0, 0.0],
+        [3.0e8, 0.0],
+        [f32::MAX, 0.0],
+    ]);
+    let Some((gpu, info)) = ran(trig_probe(&pairs)) else {
+        return;
+    };
+    let mut bad = Vec::new();
+    for (&[a, _], g) in pairs.iter().zip(&gpu) {
+        let (es, ec) = (f64::from(a).sin(), f64::from(a).cos());
+        let steps = if a.abs() < 268_435_456.0 {
+            18
+        } else {
+            u64::MAX
+        };
+        for (name, lo, hi, e) in [("sin", g[0], g[1], es), ("cos", g[2], g[3], ec)] {
+            let tight = if hi == 1.0 || lo == -1.0 {
+                u64::MAX
+            } else {
+                steps
+            };
+            bad.extend(enclosure_failure(
+                &format!("{name}({a:e})"),
+                lo,
+                hi,
+                e,
+                tight,
+            ));
         }
     }
     eprintln!(

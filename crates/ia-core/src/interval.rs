@@ -475,7 +475,9 @@ impl<T: Real> Interval<T> {
     /// Extrema are located soundly: `[a, b]·2/π` is enclosed with outward
     /// rounding and the range includes `±1` whenever a critical point
     /// `π/2 + kπ` may lie inside. Non-point intervals beyond `|x| ≥ 2^(p−3)`
-    /// (where floats are too sparse to place them) give `[−1, 1]`.
+    /// (where floats are too sparse to place them) give `[−1, 1]`; on
+    /// SPIR-V, so does an `f32` end with `|x| ≥ 2²⁸` (beyond the argument
+    /// reduction of `ia-core`'s own GPU sine).
     #[cfg_attr(not(target_arch = "spirv"), inline)]
     pub fn sin(self) -> Self {
         self.trig(1)
@@ -508,6 +510,11 @@ impl<T: Real> Interval<T> {
         };
         let (a, b) = (self.lo, self.hi);
         let fa = f(a);
+        if fa.is_nan() {
+            // an infinite end, or beyond the reach of the GPU's own sine
+            // (`|x| ≥ 2²⁸` on SPIR-V, `ia-core`'s `math`)
+            return unit;
+        }
         if a == b {
             return Self::raw(bound(a, fa, false), bound(a, fa, true));
         }
@@ -536,6 +543,9 @@ impl<T: Real> Interval<T> {
             n = n + T::ONE;
         }
         let fb = f(b);
+        if fb.is_nan() {
+            return unit;
+        }
         let lo = if has_min {
             -T::ONE
         } else {

@@ -18,18 +18,18 @@
 pub(crate) const TRANSCENDENTAL_ULPS: u32 = 2;
 /// Float steps an `exp`, `ln`, `sin`, `cos` or `pow` result is widened by.
 ///
-/// On SPIR-V the margin is wider, but **not proven sound on every
-/// driver** for `sin`, `cos` and the `f64` forms of every function:
-/// rust-gpu 0.11 replaces the calls to `libm`'s `sinf`, `cosf` (and the
-/// `f64` `exp`, `log`, `sin`, `cos`, `pow`) with GLSL.std.450 instructions
-/// (`rustc_codegen_spirv`'s libm intrinsics), whose Vulkan precision is
-/// coarser than 8 steps in places: `Sin`/`Cos` 2⁻¹¹ absolute on [−π, π],
-/// `Log` 3 ulp or 2⁻²¹ absolute, `Pow` inherited from `exp2(y·log2 x)`,
-/// `Exp` 3 + 2·|x| ulp. The `f32` `exp`, `ln` and `pow` do not use the
-/// driver's instructions: [`exp_f32`], [`ln_f32`] and [`pow_f32`] (for
-/// `x > 0`, what the interval code asks for) are within one step on any
-/// driver with IEEE `f64` `+`, `×` (and a quotient within a few ulp), so
-/// 2 steps would do for them; the 8 steps are kept for the others.
+/// On SPIR-V every `f32` function is `ia-core`'s own, not the driver's
+/// GLSL.std.450 instruction (rust-gpu 0.11 replaces `libm`'s calls with
+/// them, and Vulkan requires `Exp` only to 3 + 2·|x| ulp, `Log` to 3 ulp
+/// or 2⁻²¹ absolute, `Sin`/`Cos` to 2⁻¹¹ absolute on [−π, π], `Pow` to
+/// what `exp2(y·log2 x)` gives): [`exp_f32`], [`ln_f32`], [`pow_f32`]
+/// (for `x > 0`, what the interval code asks for), [`sin_f32`] and
+/// [`cos_f32`] (for `|x| < 2²⁸`; beyond, `Interval::sin`/`cos` give
+/// `[−1, 1]`) are within one step on any driver with IEEE `f64` `+`, `×`
+/// (and a quotient within a few ulp), so 2 steps would do for them. The
+/// `f64` forms are still the driver's, **not proven sound on every
+/// driver**; the GPU tracer computes in `f32`. The 8 steps are kept for
+/// them.
 #[cfg(target_arch = "spirv")]
 pub(crate) const TRANSCENDENTAL_ULPS: u32 = 8;
 
@@ -79,7 +79,7 @@ pub trait Math: Copy {
 }
 
 macro_rules! impl_math {
-    ($t:ty, $exp:ident, $exp_spirv:path, $ln:ident, $ln_spirv:path, $sin:ident, $cos:ident, $pow:ident, $pow_spirv:path, $sqrt:ident, $sqrt_spirv:path, $div:ident, $steps:ident) => {
+    ($t:ty, $exp:ident, $exp_spirv:path, $ln:ident, $ln_spirv:path, $sin:ident, $sin_spirv:path, $cos:ident, $cos_spirv:path, $pow:ident, $pow_spirv:path, $sqrt:ident, $sqrt_spirv:path, $div:ident, $steps:ident) => {
         #[cfg(feature = "libm")]
         impl Math for $t {
             #[cfg_attr(not(target_arch = "spirv"), inline)]
@@ -106,11 +106,25 @@ macro_rules! impl_math {
             }
             #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn m_sin(self) -> Self {
-                libm::$sin(self)
+                #[cfg(target_arch = "spirv")]
+                {
+                    $sin_spirv(self)
+                }
+                #[cfg(not(target_arch = "spirv"))]
+                {
+                    libm::$sin(self)
+                }
             }
             #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn m_cos(self) -> Self {
-                libm::$cos(self)
+                #[cfg(target_arch = "spirv")]
+                {
+                    $cos_spirv(self)
+                }
+                #[cfg(not(target_arch = "spirv"))]
+                {
+                    libm::$cos(self)
+                }
             }
             #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn m_pow(self, p: Self) -> Self {
@@ -183,7 +197,9 @@ impl_math!(
     logf,
     ln_f32,
     sinf,
+    sin_f32,
     cosf,
+    cos_f32,
     powf,
     pow_f32,
     sqrtf,
@@ -198,7 +214,9 @@ impl_math!(
     log,
     libm::log,
     sin,
+    libm::sin,
     cos,
+    libm::cos,
     pow,
     libm::pow,
     sqrt,
@@ -418,6 +436,88 @@ fn ln_f64_of_f32(x: f32) -> f64 {
     ed * LN2_HI + (ed * LN2_LO + ln_m)
 }
 
+/// `π/2` in three parts: 24 significant bits, the next 24 bits, and the
+/// rest rounded to `f64` (`k·P1` and `k·P2` are exact for `|k| < 2²⁹`;
+/// the parts sum to `π/2` within `10⁻³¹`).
+const PIO2_1: f64 = f64::from_bits(0x3FF9_21FB_4000_0000);
+/// See [`PIO2_1`].
+const PIO2_2: f64 = f64::from_bits(0x3E74_442D_0000_0000);
+/// See [`PIO2_1`].
+const PIO2_3: f64 = f64::from_bits(0x3CF8_4698_98CC_5170);
+
+/// The largest `|x|` whose sine and cosine [`sin_f32`]/[`cos_f32`]
+/// compute (`2²⁸`); beyond, they answer NaN and the interval code takes
+/// `[−1, 1]`.
+const TRIG_LIMIT: f32 = 268_435_456.0;
+
+/// `(sin r, cos r, k mod 4)` for `x = k·π/2 + r`, `|r| ≤ π/4` (plus a
+/// rounding), of an `f32` `x` with `|x| < 2²⁸`, in `f64` (any other `x`
+/// gives some numbers): `k = ⌊x·2/π + ½⌋` by a truncating conversion of a
+/// positive value, `r = ((x − k·P1) − k·P2) − k·P3` (the first two
+/// products and the first difference exact), then the Taylor polynomials
+/// of `sin` to `r¹⁷` and `cos` to `r¹⁸` (truncation below `10⁻¹⁹`). The
+/// relative error of `r` stays a few `10⁻¹⁶` even at the `f32`s closest to
+/// a multiple of `π/2`: the exact parts leave only the last rounding and
+/// `k·(π/2 − P1 − P2 − P3) < 10⁻²²`. No branches, no loops.
+#[cfg_attr(not(target_arch = "spirv"), allow(dead_code))]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
+fn sin_cos_f64_of_f32(x: f32) -> (f64, f64, u32) {
+    let xd = f64::from(select_f32(x.abs() < TRIG_LIMIT, x, 0.0));
+    let k = (xd * core::f64::consts::FRAC_2_PI + 268_435_456.5) as i32 - 268_435_456;
+    let kd = f64::from(k);
+    let r = ((xd - kd * PIO2_1) - kd * PIO2_2) - kd * PIO2_3;
+    let r2 = r * r;
+    // sin r = r·(1 − r²/3! + … + r¹⁶/17!), cos r = 1 − r²/2! + … + r¹⁸/18!
+    let mut ps = 1.0 / 355_687_428_096_000.0;
+    ps = ps * r2 - 1.0 / 1_307_674_368_000.0;
+    ps = ps * r2 + 1.0 / 6_227_020_800.0;
+    ps = ps * r2 - 1.0 / 39_916_800.0;
+    ps = ps * r2 + 1.0 / 362_880.0;
+    ps = ps * r2 - 1.0 / 5_040.0;
+    ps = ps * r2 + 1.0 / 120.0;
+    ps = ps * r2 - 1.0 / 6.0;
+    ps = ps * r2 + 1.0;
+    let mut pc = -1.0 / 6_402_373_705_728_000.0;
+    pc = pc * r2 + 1.0 / 20_922_789_888_000.0;
+    pc = pc * r2 - 1.0 / 87_178_291_200.0;
+    pc = pc * r2 + 1.0 / 479_001_600.0;
+    pc = pc * r2 - 1.0 / 3_628_800.0;
+    pc = pc * r2 + 1.0 / 40_320.0;
+    pc = pc * r2 - 1.0 / 720.0;
+    pc = pc * r2 + 1.0 / 24.0;
+    pc = pc * r2 - 0.5;
+    pc = pc * r2 + 1.0;
+    (r * ps, pc, (k & 3) as u32)
+}
+
+/// The sine of an `f32` without the driver's `Sin` (Vulkan: `2⁻¹¹`
+/// absolute on `[−π, π]`, nothing outside): what [`Math::m_sin`] of `f32`
+/// is on SPIR-V. [`sin_cos_f64_of_f32`] and the quadrant, rounded once:
+/// within one `f32` step of `sin x` for `|x| < 2²⁸`; `sin(±0) = ±0`; NaN
+/// for a larger `|x|`, an infinity or NaN (which `Interval::sin` answers
+/// with `[−1, 1]`). No branches. Tested against `f64` `sin` on the CPU.
+#[cfg_attr(not(target_arch = "spirv"), allow(dead_code))]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
+pub(crate) fn sin_f32(x: f32) -> f32 {
+    let (s, c, q) = sin_cos_f64_of_f32(x);
+    // q: 0 → s, 1 → c, 2 → −s, 3 → −c
+    let v = select_f64(q & 1 == 1, c, s);
+    let v = select_f64(q & 2 == 2, -v, v) as f32;
+    select_f32(x.abs() < TRIG_LIMIT, v, f32::NAN)
+}
+
+/// The cosine of an `f32` without the driver's `Cos`: as [`sin_f32`]
+/// (`cos(±0) = 1`).
+#[cfg_attr(not(target_arch = "spirv"), allow(dead_code))]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
+pub(crate) fn cos_f32(x: f32) -> f32 {
+    let (s, c, q) = sin_cos_f64_of_f32(x);
+    // q: 0 → c, 1 → −s, 2 → −c, 3 → s
+    let v = select_f64(q & 1 == 1, s, c);
+    let v = select_f64(q == 1 || q == 2, -v, v) as f32;
+    select_f32(x.abs() < TRIG_LIMIT, v, f32::NAN)
+}
+
 /// The natural logarithm of an `f32` without the driver's `Log`: what
 /// [`Math::m_ln`] of `f32` is on SPIR-V (Vulkan requires `Log` only to
 /// 3 ulp outside `[0.5, 2]` and to `2⁻²¹` absolute inside).
@@ -622,6 +722,58 @@ mod tests {
         assert!(ln_f32(-1.0).is_nan());
         assert!(ln_f32(f32::NEG_INFINITY).is_nan());
         assert!(ln_f32(f32::NAN).is_nan());
+    }
+
+    /// `sin_f32` and `cos_f32` are within one `f32` step of `sin x` and
+    /// `cos x` (the `f64` functions, with `libm`'s full argument
+    /// reduction) on a million spread arguments below `2²⁸` (every binade;
+    /// both signs), a fine sweep of `[−20, 20]`, the `f32`s nearest to
+    /// multiples of `π/2` (where the reduction cancels most) and the
+    /// edges; correctly rounded on nearly all; NaN from `2²⁸` on.
+    #[test]
+    fn sin_f32_and_cos_f32_are_within_one_step() {
+        let spread_args = spread(1_000_000).enumerate().map(|(i, x)| {
+            let x = if x < TRIG_LIMIT { x } else { x % TRIG_LIMIT };
+            if i % 2 == 0 { x } else { -x }
+        });
+        let sweep = (0..=400_000).map(|i| -20.0 + i as f32 * 1e-4);
+        // the f32s around k·π/2 for k up to 10⁸
+        let near = (1..2000u64).flat_map(|i| {
+            let k = (i * i * 25) as f64;
+            let x = (k * core::f64::consts::FRAC_PI_2) as f32;
+            [x.next_down_n(1), x, x.next_up_n(1)]
+        });
+        let edges = [
+            0.0f32,
+            -0.0,
+            1.0,
+            -1.0,
+            1e-30,
+            f32::MIN_POSITIVE,
+            core::f32::consts::FRAC_PI_2,
+            core::f32::consts::PI,
+            268_435_440.0,
+        ];
+        let (mut checked, mut rounded) = (0u32, 0u32);
+        for x in spread_args.chain(sweep).chain(near).chain(edges) {
+            for (y, e, name) in [
+                (sin_f32(x), f64::from(x).sin(), "sin"),
+                (cos_f32(x), f64::from(x).cos(), "cos"),
+            ] {
+                assert!(within_one_step(y, e), "{name}({x:e}) = {y:e}, exact {e:e}");
+                checked += 1;
+                rounded += u32::from(y == e as f32);
+            }
+        }
+        assert!(
+            f64::from(rounded) >= 0.9999 * f64::from(checked),
+            "{rounded}/{checked}"
+        );
+        assert_eq!(sin_f32(-0.0).to_bits(), (-0.0f32).to_bits());
+        assert_eq!(cos_f32(0.0), 1.0);
+        for x in [TRIG_LIMIT, -TRIG_LIMIT, 1e30, f32::INFINITY, f32::NAN] {
+            assert!(sin_f32(x).is_nan() && cos_f32(x).is_nan(), "{x}");
+        }
     }
 
     /// `pow_f32` is within one `f32` step of `x^p` (the `f64` `powf`) for
