@@ -9,8 +9,11 @@
 //!
 //! ```text
 //! scripts/build-spirv.sh
-//! cargo run --release -p boundtrace-gpu --example gpu_vs_cpu -- [SIZE] [REPEATS]
+//! cargo run --release -p boundtrace-gpu --example gpu_vs_cpu -- [SIZE] [REPEATS] [SCENES]
 //! ```
+//!
+//! `SCENES`: comma-separated standard scenes with flat GPU data (default
+//! `blobs,blobs-sum`; `molecule` too).
 //!
 //! Prints, per scene × method, the best of `REPEATS` (default 3) wall-clock
 //! times of a `SIZE × SIZE` (default 128) frame: the single-threaded CPU
@@ -37,6 +40,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .transpose()?
         .unwrap_or(3)
         .max(1);
+    let scenes: Vec<String> = args
+        .next()
+        .unwrap_or_else(|| "blobs,blobs-sum".into())
+        .split(',')
+        .map(str::to_owned)
+        .collect();
     let t = Instant::now();
     let gpu = GpuTracer::new()?;
     let info = gpu.adapter_info();
@@ -54,7 +63,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let methods = gpu.methods();
     // Build every pipeline before timing (the first frame of a method and
     // scene kind builds its pipeline).
-    for name in ["blobs", "blobs-sum"] {
+    for name in &scenes {
         let scene = Scene::<f32>::build(name, DEFAULT_SEED)?;
         let data = GpuScene::from_scene(&scene)?;
         let camera = Camera::framing(scene.bounds(), [0.3, -0.4, -1.0], 40.0, 1.0)?;
@@ -67,7 +76,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             );
         }
     }
-    for name in ["blobs", "blobs-sum"] {
+    for name in &scenes {
         let scene = Scene::<f32>::build(name, DEFAULT_SEED)?;
         let data = GpuScene::from_scene(&scene)?;
         let camera = Camera::framing(scene.bounds(), [0.3, -0.4, -1.0], 40.0, 1.0)?;
