@@ -387,7 +387,7 @@ impl<T: Real> FieldNum<T> for Plain<T> {
         Plain(self.0.recip())
     }
     fn exp(self) -> Self {
-        Plain(self.0.exp())
+        Plain(self.0.exp_ia())
     }
     fn ln(self) -> Self {
         Plain(self.0.ln())

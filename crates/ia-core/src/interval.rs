@@ -3,7 +3,6 @@
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
 use crate::Real;
-use crate::math::TRANSCENDENTAL_ULPS;
 use crate::round::{
     add_down, add_up, div_down, div_up, mul_down, mul_up, powu_dir, sqrt_down, sqrt_up, sub_down,
     sub_up,
@@ -383,7 +382,7 @@ impl<T: Real> Interval<T> {
             if v == T::ONE || v == T::ZERO || v.is_infinite() {
                 r // exact: 1^p = 1, 0^p = 0, ∞^p ∈ {0, ∞}
             } else {
-                r.next_up_n(TRANSCENDENTAL_ULPS)
+                r.next_up_n(T::TRANSCENDENTAL_STEPS)
             }
         };
         let down = |v: T| {
@@ -391,7 +390,7 @@ impl<T: Real> Interval<T> {
             if v == T::ONE || v == T::ZERO || v.is_infinite() {
                 r
             } else {
-                r.next_down_n(TRANSCENDENTAL_ULPS).max(T::ZERO)
+                r.next_down_n(T::TRANSCENDENTAL_STEPS).max(T::ZERO)
             }
         };
         if p > T::ZERO {
@@ -438,9 +437,9 @@ impl<T: Real> Interval<T> {
             if v == T::ZERO || v.is_infinite() {
                 r // exact: e^0 = 1, e^−∞ = 0, e^+∞ = +∞
             } else if up {
-                r.next_up_n(TRANSCENDENTAL_ULPS)
+                r.next_up_n(T::TRANSCENDENTAL_STEPS)
             } else {
-                r.next_down_n(TRANSCENDENTAL_ULPS).max(T::ZERO)
+                r.next_down_n(T::TRANSCENDENTAL_STEPS).max(T::ZERO)
             }
         };
         Self::raw(f(self.lo, rl, false), f(self.hi, rh, true))
@@ -461,9 +460,9 @@ impl<T: Real> Interval<T> {
             if v == T::ONE || v == T::ZERO || v.is_infinite() {
                 r // exact: ln 1 = 0, ln 0 = −∞, ln ∞ = ∞
             } else if up {
-                r.next_up_n(TRANSCENDENTAL_ULPS)
+                r.next_up_n(T::TRANSCENDENTAL_STEPS)
             } else {
-                r.next_down_n(TRANSCENDENTAL_ULPS)
+                r.next_down_n(T::TRANSCENDENTAL_STEPS)
             }
         };
         Self::raw(f(x.lo, rl, false), f(x.hi, rh, true))
@@ -503,9 +502,9 @@ impl<T: Real> Interval<T> {
             if v == T::ZERO {
                 r // exact: sin 0 = 0, cos 0 = 1
             } else if up {
-                r.next_up_n(TRANSCENDENTAL_ULPS).min(T::ONE)
+                r.next_up_n(T::TRANSCENDENTAL_STEPS).min(T::ONE)
             } else {
-                r.next_down_n(TRANSCENDENTAL_ULPS).max(-T::ONE)
+                r.next_down_n(T::TRANSCENDENTAL_STEPS).max(-T::ONE)
             }
         };
         let (a, b) = (self.lo, self.hi);

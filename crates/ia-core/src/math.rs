@@ -7,31 +7,44 @@
 //!
 //! Both back ends document an error below 1 ulp for every function used here
 //! (musl-derived `libm`; glibc's and the platform libraries behind `std`), and
-//! `sqrt` is correctly rounded (IEEE 754). The interval and affine code widens
-//! results by [`TRANSCENDENTAL_ULPS`] resp. [`SQRT_ULPS`] float steps outward.
+//! `sqrt` is correctly rounded (IEEE 754). The `f32` `exp` is `ia-core`'s
+//! own on every target ([`exp_f32`]), and on SPIR-V so are the other
+//! `f32` functions (the driver's instructions are not precise enough). The
+//! interval code widens results by [`Math::TRANSCENDENTAL_STEPS`] resp.
+//! [`SQRT_ULPS`] float steps outward.
 
-/// Float steps an `exp`, `ln`, `sin`, `cos` or `pow` result is widened by.
+/// Float steps an `f64` `exp`, `ln`, `sin`, `cos` or `pow` result is
+/// widened by ([`Math::TRANSCENDENTAL_STEPS`] of `f64`; `f32`:
+/// [`F32_TRANSCENDENTAL_STEPS`]).
 ///
 /// An error below 1 ulp of the exact result is at most two float steps of the
 /// returned value (the step halves just below a power of two).
 #[cfg(not(target_arch = "spirv"))]
 pub(crate) const TRANSCENDENTAL_ULPS: u32 = 2;
-/// Float steps an `exp`, `ln`, `sin`, `cos` or `pow` result is widened by.
+/// Float steps an `f64` `exp`, `ln`, `sin`, `cos` or `pow` result is
+/// widened by on SPIR-V ([`Math::TRANSCENDENTAL_STEPS`] of `f64`).
 ///
-/// On SPIR-V every `f32` function is `ia-core`'s own, not the driver's
-/// GLSL.std.450 instruction (rust-gpu 0.11 replaces `libm`'s calls with
-/// them, and Vulkan requires `Exp` only to 3 + 2·|x| ulp, `Log` to 3 ulp
-/// or 2⁻²¹ absolute, `Sin`/`Cos` to 2⁻¹¹ absolute on [−π, π], `Pow` to
-/// what `exp2(y·log2 x)` gives): [`exp_f32`], [`ln_f32`], [`pow_f32`]
-/// (for `x > 0`, what the interval code asks for), [`sin_f32`] and
-/// [`cos_f32`] (for `|x| < 2²⁸`; beyond, `Interval::sin`/`cos` give
-/// `[−1, 1]`) are within one step on any driver with IEEE `f64` `+`, `×`
-/// (and a quotient within a few ulp), so 2 steps would do for them. The
-/// `f64` forms are still the driver's, **not proven sound on every
-/// driver**; the GPU tracer computes in `f32`. The 8 steps are kept for
-/// them.
+/// There the `f64` functions are the driver's GLSL.std.450 instructions
+/// (rust-gpu 0.11 replaces `libm`'s calls with them), whose Vulkan
+/// precision is coarser than 8 steps in places (`Exp` 3 + 2·|x| ulp,
+/// `Log` 3 ulp or 2⁻²¹ absolute, `Sin`/`Cos` 2⁻¹¹ absolute on [−π, π],
+/// `Pow` what `exp2(y·log2 x)` gives): **not proven sound on every
+/// driver**. The GPU tracer computes in `f32`, whose functions are
+/// `ia-core`'s own on SPIR-V ([`exp_f32`], [`ln_f32`], [`pow_f32`] for
+/// `x > 0`, [`sin_f32`] and [`cos_f32`] for `|x| < 2²⁸`, beyond which
+/// `Interval::sin`/`cos` give `[−1, 1]`), within one step on any driver
+/// with IEEE `f64` `+`, `×` (and a quotient within a few ulp).
 #[cfg(target_arch = "spirv")]
 pub(crate) const TRANSCENDENTAL_ULPS: u32 = 8;
+
+/// [`Math::TRANSCENDENTAL_STEPS`] of `f32`: 2 on every target. On CPUs
+/// `exp` is [`exp_f32`] (the GPU's own, within one step, so that both
+/// compute the same bounds bit for bit) and `ln`, `sin`, `cos`, `pow` the
+/// platform's or `libm`'s (< 1 ulp); on SPIR-V all five are `ia-core`'s
+/// own, within one step ([`exp_f32`], [`ln_f32`], [`sin_f32`],
+/// [`cos_f32`], [`pow_f32`]). An error below one step of the exact result
+/// is within two steps of the returned value.
+const F32_TRANSCENDENTAL_STEPS: u32 = 2;
 
 /// Float steps a `sqrt` result is widened by: it is correctly rounded on
 /// CPUs (IEEE 754), and for `f32` on SPIR-V too: there [`sqrt_f32`]
@@ -64,6 +77,10 @@ pub trait Math: Copy {
     fn m_sqrt(self) -> Self;
     /// Float steps a quotient [`m_div`](Self::m_div) is widened by.
     const DIV_STEPS: u32;
+    /// Float steps an `exp`, `ln`, `sin`, `cos` or `pow` result is
+    /// widened by: [`TRANSCENDENTAL_ULPS`] for `f64`, and 2 for `f32`
+    /// everywhere ([`F32_TRANSCENDENTAL_STEPS`]).
+    const TRANSCENDENTAL_STEPS: u32;
     /// `self / d`, correctly rounded where [`DIV_STEPS`](Self::DIV_STEPS)
     /// is `1`.
     ///
@@ -79,7 +96,7 @@ pub trait Math: Copy {
 }
 
 macro_rules! impl_math {
-    ($t:ty, $exp:ident, $exp_spirv:path, $ln:ident, $ln_spirv:path, $sin:ident, $sin_spirv:path, $cos:ident, $cos_spirv:path, $pow:ident, $pow_spirv:path, $sqrt:ident, $sqrt_spirv:path, $div:ident, $steps:ident) => {
+    ($t:ty, $exp_cpu:path, $exp_std:path, $exp_spirv:path, $ln:ident, $ln_spirv:path, $sin:ident, $sin_spirv:path, $cos:ident, $cos_spirv:path, $pow:ident, $pow_spirv:path, $sqrt:ident, $sqrt_spirv:path, $div:ident, $steps:ident, $tsteps:ident) => {
         #[cfg(feature = "libm")]
         impl Math for $t {
             #[cfg_attr(not(target_arch = "spirv"), inline)]
@@ -90,7 +107,7 @@ macro_rules! impl_math {
                 }
                 #[cfg(not(target_arch = "spirv"))]
                 {
-                    libm::$exp(self)
+                    $exp_cpu(self)
                 }
             }
             #[cfg_attr(not(target_arch = "spirv"), inline)]
@@ -149,6 +166,7 @@ macro_rules! impl_math {
                 }
             }
             const DIV_STEPS: u32 = $steps;
+            const TRANSCENDENTAL_STEPS: u32 = $tsteps;
             #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn m_div(self, d: Self) -> Self {
                 $div(self, d)
@@ -159,7 +177,7 @@ macro_rules! impl_math {
         impl Math for $t {
             #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn m_exp(self) -> Self {
-                <$t>::exp(self)
+                $exp_std(self)
             }
             #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn m_ln(self) -> Self {
@@ -182,6 +200,7 @@ macro_rules! impl_math {
                 <$t>::sqrt(self)
             }
             const DIV_STEPS: u32 = $steps;
+            const TRANSCENDENTAL_STEPS: u32 = $tsteps;
             #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn m_div(self, d: Self) -> Self {
                 $div(self, d)
@@ -192,7 +211,8 @@ macro_rules! impl_math {
 
 impl_math!(
     f32,
-    expf,
+    exp_f32,
+    exp_f32,
     exp_f32,
     logf,
     ln_f32,
@@ -205,11 +225,13 @@ impl_math!(
     sqrtf,
     sqrt_f32,
     f32_div,
-    F32_DIV_STEPS
+    F32_DIV_STEPS,
+    F32_TRANSCENDENTAL_STEPS
 );
 impl_math!(
     f64,
-    exp,
+    libm::exp,
+    f64::exp,
     libm::exp,
     log,
     libm::log,
@@ -222,7 +244,8 @@ impl_math!(
     sqrt,
     libm::sqrt,
     f64_div,
-    F64_DIV_STEPS
+    F64_DIV_STEPS,
+    TRANSCENDENTAL_ULPS
 );
 
 /// The correctly rounded square root of an `f32`, computed in `f64`: what

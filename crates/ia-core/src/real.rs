@@ -76,6 +76,18 @@ pub trait Real: num_traits::Float + Math + 'static {
 
     /// Converts to `f64` (exact for both implementations).
     fn as_f64(self) -> f64;
+
+    /// `e^self` as `ia-core` computes it for its bounds, before they are
+    /// widened: for `f32` `ia-core`'s own exponential on every target
+    /// (within one float step of `e^x`, correctly rounded except within
+    /// `10⁻¹⁴` of a midpoint, and the same bits on CPUs and on GPUs with
+    /// IEEE `f64` arithmetic), for `f64` the platform's or `libm`'s
+    /// (`< 1` ulp). Plain-float field evaluations use it, so that a field
+    /// traced on the GPU sees the CPU's values.
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
+    fn exp_ia(self) -> Self {
+        self.m_exp()
+    }
 }
 
 macro_rules! impl_real {

@@ -102,7 +102,7 @@ impl<T: Real> Jet<T> {
 
     /// `eˣ`.
     pub fn exp(self) -> Self {
-        let g = self.v.exp();
+        let g = self.v.exp_ia();
         self.chain(g, g, g)
     }
 

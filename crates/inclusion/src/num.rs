@@ -113,7 +113,7 @@ macro_rules! float_num {
             #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn recip(self) -> Self { 1.0 / self }
             #[cfg_attr(not(target_arch = "spirv"), inline)]
-            fn exp(self) -> Self { Float::exp(self) }
+            fn exp(self) -> Self { Real::exp_ia(self) }
             #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn ln(self) -> Self { Float::ln(self) }
             #[cfg_attr(not(target_arch = "spirv"), inline)]
