@@ -66,9 +66,9 @@
 //!
 //! Limits: `f32` only; the per-pixel root buffer of transparent mode holds
 //! [`MAX_GPU_ROOTS`] roots (more is a [`GpuError::MaxRoots`]); scenes with
-//! flat GPU data are the blob scenes (`blobs`, `blobs-sum`) and
-//! `molecule` (Gaussian atoms, with its generator's global Lipschitz
-//! bound for sphere tracing) — see [`GpuScene::from_scene`].
+//! flat GPU data are the blob scenes (`blobs`, `blobs-sum`); `molecule`
+//! is refused until its frames match the CPU's — see
+//! [`GpuScene::from_scene`].
 //!
 //! # Soundness on a GPU
 //! The interval code rounds outward from correctly rounded `+ − ×` (Vulkan
@@ -294,14 +294,21 @@ pub struct GpuScene {
     lipschitz: f32,
 }
 
+/// Whether [`GpuScene::from_scene`] accepts the `molecule` scene: not
+/// yet. Its flat data and global Lipschitz bound are in place
+/// ([`Constants::lipschitz`]), but its `segment` and forward-Taylor frames
+/// on lavapipe did not match the CPU's within the difftests' thresholds in
+/// session 15 (BENCHMARKS.md "GPU"), so it stays off until they do.
+const MOLECULE_ON_GPU: bool = false;
+
 impl GpuScene {
-    /// The flat data of a standard scene: `blobs` (union of blob groups),
-    /// `blobs-sum` (one blob set) and `molecule` (one set of Gaussian
-    /// atoms with the global Lipschitz bound its generator computed, which
-    /// sphere tracing uses as on the CPU).
+    /// The flat data of a standard scene: `blobs` (union of blob groups)
+    /// and `blobs-sum` (one blob set).
     ///
     /// # Errors
-    /// [`GpuError::UnsupportedScene`] for the other scenes: the HRBF and
+    /// [`GpuError::UnsupportedScene`] for the other scenes: `molecule`
+    /// (its data is ready, its frames not yet verified: see
+    /// `MOLECULE_ON_GPU` in the source), the HRBF and
     /// SCALIS scenes (no flat field yet), the blobtrees (their decoding
     /// does not compile with rust-gpu 0.11).
     pub fn from_scene(scene: &Scene<f32>) -> Result<Self, GpuError> {
@@ -347,6 +354,12 @@ impl GpuScene {
                 return unsupported(
                     "blobtree decoding builds `FieldError` values (`&'static str` \
                      messages), which rust-gpu 0.11 cannot compile",
+                );
+            }
+            SceneField::Molecule(_) if !MOLECULE_ON_GPU => {
+                return unsupported(
+                    "its GPU frames do not yet match the CPU's within the difftests' \
+                     thresholds (BENCHMARKS.md \"GPU\", session 15)",
                 );
             }
             SceneField::Molecule(m) => {
@@ -1814,16 +1827,12 @@ mod tests {
         );
         let sum = Scene::<f32>::build("blobs-sum", DEFAULT_SEED).unwrap();
         assert_eq!(GpuScene::from_scene(&sum).unwrap().kind(), SceneKind::Blobs);
+        // refused until its frames match (MOLECULE_ON_GPU)
         let mol = Scene::<f32>::build("molecule", DEFAULT_SEED).unwrap();
-        let m = GpuScene::from_scene(&mol).unwrap();
-        let SceneField::Molecule(w) = mol.field() else {
-            unreachable!("the molecule is a blob set with its bound")
-        };
-        assert_eq!(m.kind(), SceneKind::Blobs);
-        assert_eq!(
-            (m.blobs.len(), m.iso, m.lipschitz),
-            (500, w.field().iso(), w.bound())
-        );
+        assert!(matches!(
+            GpuScene::from_scene(&mol),
+            Err(GpuError::UnsupportedScene(_))
+        ));
         let agg = Scene::<f32>::build("aggregate-1", DEFAULT_SEED).unwrap();
         assert!(GpuScene::from_scene(&agg).is_err());
         let hrbf = Scene::<f32>::build("hrbf-8", DEFAULT_SEED).unwrap();
