@@ -242,11 +242,13 @@ fn outward_check_rejects_narrow_bounds() {
 
 /// Why `[lo, hi]` fails to be a tight enclosure of the exact value `e`
 /// (given in `f64`, within `10⁻¹⁵` relative of it): `None` when `lo ≤ e ≤
-/// hi` with a margin of the `f64` error, and `hi` at most `max_steps`
+/// hi` up to the `f64` error, and `hi` at most `max_steps`
 /// float steps above `lo` (finite bounds).
 fn enclosure_failure(what: &str, lo: f32, hi: f32, e: f64, max_steps: u64) -> Option<String> {
+    // `e` is within 10⁻¹⁵ of the exact value: a bound may touch it (an
+    // exact `exp(0) = 1`, a `cos` clamped to 1)
     let m = e.abs() * 1e-14;
-    if !(f64::from(lo) <= e - m && e + m <= f64::from(hi)) {
+    if !(f64::from(lo) <= e + m && e - m <= f64::from(hi)) {
         return Some(format!("{what}: [{lo:e}, {hi:e}] misses {e:e}"));
     }
     if lo.is_finite() && hi.is_finite() && lo.signum() == hi.signum() && lo != 0.0 {
