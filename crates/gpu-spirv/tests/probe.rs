@@ -265,8 +265,8 @@ fn enclosure_failure(what: &str, lo: f32, hi: f32, e: f64, max_steps: u64) -> Op
 /// Vulkan precision the widening would not cover) enclose the exact
 /// results (`f64`), on 20,000 arguments over many magnitudes (exponents
 /// folded into `(-90, 90)` for `exp` and `(-6, 6)` for `pow`) and
-/// edge cases; the bounds are at most `2·8 + 2` steps wide (8 steps of
-/// widening each way on SPIR-V, around a result within one step). The
+/// edge cases; the bounds are at most 18 steps wide (a loose limit: `f32`
+/// bounds widen by 2 steps each way around a result within one step). The
 /// check rejects a bound one step too narrow
 /// (`enclosure_check_rejects_narrow_bounds`).
 #[test]
@@ -336,8 +336,8 @@ fn exp_ln_and_pow_bounds_enclose_exact_results() {
 /// full argument reduction) on 20,000 arguments over `2^-60 … 2^60` (the
 /// bounds of those beyond `2²⁸` must be `[−1, 1]` on SPIR-V, and are
 /// only checked to enclose) and the `f32`s next to multiples of `π/2`;
-/// bounds at most `2·8 + 2` steps wide below `2²⁸` (except where they
-/// reach `±1`, clamped).
+/// bounds at most 18 steps wide below `2²⁸` (a loose limit, as above;
+/// except where they reach `±1`, clamped).
 #[test]
 fn sin_and_cos_bounds_enclose_exact_results() {
     let mut pairs = spread_pairs(20_000);
