@@ -158,11 +158,7 @@ impl<'a, T: Real> RayPrimitives<'a, T> {
         span: [T; 2],
         storage: &'a mut [PrimitiveHit<T>],
     ) -> Self {
-        let mut out = Self {
-            hits: storage,
-            len: 0,
-            overflow: false,
-        };
+        let mut out = Self::empty(storage);
         for (i, s) in segments.iter().enumerate() {
             if !out.insert(hit_of(s, i as u32, ray, span)) {
                 break;
@@ -184,11 +180,7 @@ impl<'a, T: Real> RayPrimitives<'a, T> {
         span: [T; 2],
         storage: &'a mut [PrimitiveHit<T>],
     ) -> Self {
-        let mut out = Self {
-            hits: storage,
-            len: 0,
-            overflow: false,
-        };
+        let mut out = Self::empty(storage);
         for &i in candidates {
             let Some(s) = segments.get(i as usize) else {
                 continue;
@@ -198,6 +190,15 @@ impl<'a, T: Real> RayPrimitives<'a, T> {
             }
         }
         out
+    }
+
+    /// An empty list over `storage`.
+    fn empty(storage: &'a mut [PrimitiveHit<T>]) -> Self {
+        Self {
+            hits: storage,
+            len: 0,
+            overflow: false,
+        }
     }
 
     /// Inserts `h` in entry order (after the equal entries: a stable
