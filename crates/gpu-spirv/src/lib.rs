@@ -393,6 +393,29 @@ impl GpuScene {
         Ok(s)
     }
 
+    /// The frame constants the shader reads for this scene, `camera` and
+    /// `settings`, with `slots` root slots per pixel (no leg limit).
+    fn constants(
+        &self,
+        camera: &Camera<f32>,
+        settings: &RenderSettings<f32>,
+        slots: u32,
+    ) -> Constants {
+        let setup = PixelSetup {
+            camera: *camera,
+            bounds: self.bounds,
+            width: settings.width,
+            height: settings.height,
+            method: settings.method,
+            mode: settings.mode,
+            params: settings.params,
+        };
+        Constants {
+            lipschitz: self.lipschitz,
+            ..Constants::new(&setup, self.kind, self.iso, slots, self.groups)
+        }
+    }
+
     /// The kind of field the shader builds.
     pub fn kind(&self) -> SceneKind {
         self.kind
@@ -839,20 +862,10 @@ impl GpuTracer {
             Mode::Transparent if settings.max_roots <= MAX_GPU_ROOTS => settings.max_roots,
             Mode::Transparent => return Err(GpuError::MaxRoots(settings.max_roots)),
         };
-        let setup = PixelSetup {
-            camera: *camera,
-            bounds: scene.bounds,
-            width: settings.width,
-            height: settings.height,
-            method: settings.method,
-            mode: settings.mode,
-            params: settings.params,
-        };
         let (pipeline, resumable) = self.pipeline(settings.method, scene.kind)?;
         let c = Constants {
             leg_steps,
-            lipschitz: scene.lipschitz,
-            ..Constants::new(&setup, scene.kind, scene.iso, slots, scene.groups)
+            ..scene.constants(camera, settings, slots)
         };
         let n = settings.width as usize * settings.height as usize;
         let (pix_words, hit_words, dispatches, dispatch) =
@@ -2171,23 +2184,12 @@ mod tests {
     ) -> Vec<(PixelOut, Vec<(u32, u32)>)> {
         use boundtrace_gpu_kernel as k;
         use boundtrace_tracer::Root;
-        let setup = PixelSetup {
-            camera: *camera,
-            bounds: scene.bounds,
-            width: settings.width,
-            height: settings.height,
-            method: settings.method,
-            mode: settings.mode,
-            params: settings.params,
-        };
         let slots = match settings.mode {
             Mode::Opaque => 1,
             Mode::Transparent => settings.max_roots,
         };
-        let c = Constants {
-            lipschitz: scene.lipschitz,
-            ..Constants::new(&setup, scene.kind, scene.iso, slots, scene.groups)
-        };
+        // the constants the host uploads
+        let c = scene.constants(camera, settings, slots);
         let n = (c.width * c.height) as usize;
         let none = Root {
             t: 0.0,
