@@ -42,7 +42,9 @@ echo "==> building the SPIR-V builder (cached in $target/spirv-builder) and comp
 
 # The leg modules of segment tracing and the forward Taylor methods, one
 # per method and blob scene kind: spirv-opt runs out of memory on segment
-# tracing of both kinds in one module. Skipped when
+# tracing of both kinds in one module. They share the main module's shader
+# target dir: only the shader crate (its features) differs between them, so
+# its dependencies are compiled to SPIR-V once. Skipped when
 # BOUNDTRACE_SHADER_FEATURES picks the main module's features.
 if [ -z "${BOUNDTRACE_SHADER_FEATURES:-}" ]; then
     for method in segment linear-taylor quadratic-taylor; do
@@ -51,7 +53,7 @@ if [ -z "${BOUNDTRACE_SHADER_FEATURES:-}" ]; then
             (cd crates/gpu-builder &&
                 BOUNDTRACE_SHADER_FEATURES=$method-$kind CARGO_TARGET_DIR="$target/spirv-builder" \
                     cargo +"$toolchain" run --release --locked -q -- \
-                    "${out%.spv}-$method-$kind.spv" "$target/spirv-shader-$method-$kind")
+                    "${out%.spv}-$method-$kind.spv" "$target/spirv-shader")
         done
     done
 fi

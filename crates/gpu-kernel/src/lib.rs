@@ -539,8 +539,8 @@ impl PixelKernel for SphereOnly {
 
 /// A pixel's resumable trace between two dispatches
 /// ([`render_sphere_leg`], [`render_segment_leg`]): the tracer's loop state
-/// and the pixel's phase (`#[repr(C)]`, 12 words; the host zero-fills the
-/// buffer, i.e. [`PHASE_FRESH`]).
+/// the pixel's phase and its shading progress (`#[repr(C)]`, 13 words; the
+/// host zero-fills the buffer, i.e. [`PHASE_FRESH`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[repr(C)]
 pub struct PixelLeg {
@@ -549,14 +549,19 @@ pub struct PixelLeg {
     /// [`PHASE_FRESH`], [`PHASE_TRACING`], [`PHASE_SHADING`] or
     /// [`PHASE_DONE`].
     pub phase: u32,
+    /// [`PHASE_SHADING`]: the roots whose hits (with normals) are written;
+    /// shading resumes at this root, so that a pixel with many roots
+    /// shades them over several dispatches (one normal loops over every
+    /// primitive three times, [`boundtrace_inclusion::gradient`]).
+    pub shaded: u32,
 }
 
 /// [`PixelLeg::phase`]: not started.
 pub const PHASE_FRESH: u32 = 0;
 /// [`PixelLeg::phase`]: paused between two steps.
 pub const PHASE_TRACING: u32 = 1;
-/// [`PixelLeg::phase`]: traced, its record written; the hits' normals are
-/// still to be written.
+/// [`PixelLeg::phase`]: traced, its record written; the hits' normals from
+/// root [`PixelLeg::shaded`] on are still to be written.
 pub const PHASE_SHADING: u32 = 2;
 /// [`PixelLeg::phase`]: record and hits written.
 pub const PHASE_DONE: u32 = 3;
@@ -802,21 +807,27 @@ impl<M: LegTrace> PixelKernel for Legs<M> {
             // Traced: the record is final (the trace is not run again).
             self.out = record(&px);
             leg.phase = PHASE_SHADING;
+            leg.shaded = 0;
         }
-        // Shading: its gradients loop over the primitives too.
+        // Shading, one root at a time from `leg.shaded`: a normal loops
+        // over the primitives too, so a hit is written only when the
+        // loop-limit probe after it passes, and the next leg resumes at
+        // the first root not written.
         let out = self.out;
-        let traced = PixelTrace {
-            ray,
-            span,
-            trace: Trace {
-                roots: out.roots,
-                status: Status::Finished,
-                t_reached: out.t_reached,
-                stats: RayStats::default(),
-            },
-        };
-        shade(field, &traced, roots, hits, base);
-        if loops_complete(self.loops) {
+        let mut i = leg.shaded;
+        while i < out.roots {
+            let k = base + i as usize;
+            let hit = hit_at(field, &ray, roots[k]);
+            if !loops_complete(self.loops) {
+                break;
+            }
+            if k < hits.len() {
+                hits[k] = hit;
+            }
+            i += 1;
+        }
+        leg.shaded = i;
+        if i >= out.roots {
             leg.phase = PHASE_DONE;
         }
         self.leg = leg;
@@ -1150,22 +1161,27 @@ fn shade<F: Field<f32>>(
     // into a slice.
     let mut i = 0usize;
     while i < px.trace.roots as usize {
-        let root = roots[base + i];
-        let o = px.ray.origin;
-        let d = px.ray.dir;
-        let p = [
-            o[0] + root.t * d[0],
-            o[1] + root.t * d[1],
-            o[2] + root.t * d[2],
-        ];
+        let hit = hit_at(field, &px.ray, roots[base + i]);
         if base + i < hits.len() {
-            hits[base + i] = HitOut {
-                t: root.t,
-                side: root.side as u32,
-                normal: normal(field, p),
-            };
+            hits[base + i] = hit;
         }
         i += 1;
+    }
+}
+
+/// The hit of `root` on `ray`: its depth, side and the normal there.
+fn hit_at<F: Field<f32>>(field: &F, ray: &Ray<f32>, root: Root<f32>) -> HitOut {
+    let o = ray.origin;
+    let d = ray.dir;
+    let p = [
+        o[0] + root.t * d[0],
+        o[1] + root.t * d[1],
+        o[2] + root.t * d[2],
+    ];
+    HitOut {
+        t: root.t,
+        side: root.side as u32,
+        normal: normal(field, p),
     }
 }
 
@@ -1214,7 +1230,7 @@ mod tests {
             0.0f32.to_bits(),
             "no Lipschitz bound unless the host sets one"
         );
-        assert_eq!(core::mem::size_of::<PixelLeg>(), 12 * 4);
+        assert_eq!(core::mem::size_of::<PixelLeg>(), 13 * 4);
         assert_eq!(w[34], GUARD_LOOPS);
         assert_eq!(w[28], Method::QuadraticMixed as u32);
         assert_eq!(f32::from_bits(w[32]), 0.5);
@@ -1386,6 +1402,7 @@ mod tests {
             ),
         ];
         let mut resumed = 0;
+        let mut shaded_from_one = 0;
         // Hits of each kernel's own method.
         let mut method_hits = [0usize; 4];
         for ((method, mode), (kernel, render_leg)) in kernels
@@ -1476,10 +1493,40 @@ mod tests {
                         &mut out,
                     );
                     assert_eq!((leg, out, hb), before);
-                    // A cut shading is redone.
+                    assert_eq!(leg.shaded, a.roots);
+                    // A cut shading is redone from the first root not
+                    // written: from root 1, root 0's hit is left alone.
+                    if a.roots > 1 {
+                        let (mut leg1, mut hb1) = (
+                            PixelLeg {
+                                phase: PHASE_SHADING,
+                                shaded: 1,
+                                ..leg
+                            },
+                            [HitOut::default(); 4],
+                        );
+                        render_leg(
+                            &c,
+                            &[],
+                            &[],
+                            &blobs,
+                            x,
+                            y,
+                            &mut rb,
+                            &mut hb1,
+                            0,
+                            &mut leg1,
+                            &mut out,
+                        );
+                        assert_eq!((leg1.phase, leg1.shaded, out), (PHASE_DONE, a.roots, a));
+                        assert_eq!(hb1[0], HitOut::default());
+                        assert_eq!(hb1[1..], ha[1..]);
+                        shaded_from_one += 1;
+                    }
                     let (mut leg2, mut hb2) = (
                         PixelLeg {
                             phase: PHASE_SHADING,
+                            shaded: 0,
                             ..leg
                         },
                         [HitOut::default(); 4],
@@ -1546,6 +1593,7 @@ mod tests {
             }
         }
         assert!(resumed > 20, "{resumed}");
+        assert!(shaded_from_one > 8, "{shaded_from_one}");
         assert!(method_hits.iter().all(|&n| n > 8), "{method_hits:?}");
     }
 

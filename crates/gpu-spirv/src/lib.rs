@@ -1071,13 +1071,14 @@ impl GpuTracer {
 }
 
 /// The pixels not done, and a measure of progress that grows whenever a
-/// pixel takes a step or changes phase (the sum of phase·2³² + steps over
-/// the legs' words).
+/// pixel takes a step, shades a root or changes phase (the sum of
+/// phase·2³² + steps + shaded roots over the legs' words).
 fn leg_progress(words: &[u32]) -> (usize, u64) {
     let mut pending = 0;
     let mut total = 0u64;
     use core::mem::offset_of;
     let phase_at = offset_of!(PixelLeg, phase) / 4;
+    let shaded_at = offset_of!(PixelLeg, shaded) / 4;
     let steps_at = (offset_of!(PixelLeg, state)
         + offset_of!(MarchState<f32>, stats)
         + offset_of!(RayStats, steps))
@@ -1085,7 +1086,7 @@ fn leg_progress(words: &[u32]) -> (usize, u64) {
     for leg in words.chunks_exact(LEG_WORDS) {
         let phase = leg[phase_at];
         pending += usize::from(phase < PHASE_DONE);
-        total += (u64::from(phase) << 32) + u64::from(leg[steps_at]);
+        total += (u64::from(phase) << 32) + u64::from(leg[steps_at]) + u64::from(leg[shaded_at]);
     }
     (pending, total)
 }
@@ -1941,10 +1942,11 @@ mod tests {
     }
 
     #[test]
-    fn leg_progress_reads_phase_and_steps() {
-        let leg = |phase, steps| {
+    fn leg_progress_reads_phase_steps_and_shading() {
+        let leg = |phase, steps, shaded| {
             let mut l = PixelLeg {
                 phase,
+                shaded,
                 ..PixelLeg::default()
             };
             l.state.stats.steps = steps;
@@ -1962,11 +1964,16 @@ mod tests {
                 l.state.stats.field_evals,
                 l.state.stats.bound_evals,
                 l.phase,
+                l.shaded,
             ];
             w
         };
-        let words: Vec<u32> = [leg(PHASE_DONE, 9), leg(1, 4), leg(0, 0)].concat();
-        assert_eq!(leg_progress(&words), (2, (3 << 32) + 9 + (1 << 32) + 4));
+        let words: Vec<u32> = [leg(PHASE_DONE, 9, 2), leg(1, 4, 0), leg(0, 0, 0)].concat();
+        assert_eq!(leg_progress(&words), (2, (3 << 32) + 9 + 2 + (1 << 32) + 4));
+        // A pixel that shades one more root progresses.
+        let more: Vec<u32> = [leg(PHASE_DONE, 9, 2), leg(2, 4, 1), leg(0, 0, 0)].concat();
+        let shaded: Vec<u32> = [leg(PHASE_DONE, 9, 2), leg(2, 4, 2), leg(0, 0, 0)].concat();
+        assert!(leg_progress(&shaded).1 > leg_progress(&more).1);
     }
 
     #[test]
