@@ -21,12 +21,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
 
-toolchain=nightly-2026-08-15
-if ! rustup run "$toolchain" rustc --version >/dev/null 2>&1 ||
-    ! rustup component list --toolchain "$toolchain" --installed 2>/dev/null | grep -q '^rustc-dev'; then
-    echo "==> installing $toolchain (rust-src, rustc-dev, llvm-tools) for rust-gpu"
-    rustup toolchain install "$toolchain" --profile minimal -c rust-src,rustc-dev,llvm-tools
-fi
+toolchain=$(scripts/nightly.sh)
 
 target=${CARGO_TARGET_DIR:-$root/target}
 case "$target" in /*) ;; *) target="$root/$target" ;; esac

@@ -12,7 +12,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-NIGHTLY=nightly-2026-08-15
+NIGHTLY=$(scripts/nightly.sh)
 secs=${1:-30}
 shift || true
 targets=("$@")
@@ -20,9 +20,6 @@ if [ ${#targets[@]} -eq 0 ]; then
     targets=(interval_ops affine_ops forward_bounds field_bounds sparse_equivalence tracer_first_hit scene_parse)
 fi
 
-if ! rustup run "$NIGHTLY" rustc --version >/dev/null 2>&1; then
-    rustup toolchain install "$NIGHTLY" --profile minimal
-fi
 if ! command -v cargo-fuzz >/dev/null 2>&1; then
     cargo install cargo-fuzz --locked
 fi

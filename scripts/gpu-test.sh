@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Prepares the GPU difftests (crates/gpu-spirv): a Vulkan driver (lavapipe,
 # installed with apt-get only when no Vulkan ICD is present) and the SPIR-V
-# module (scripts/build-spirv.sh). The tests themselves run in
-# `cargo test --workspace` (or `cargo test -p boundtrace-gpu`); with CI=true
-# a missing adapter or module makes them FAIL, never skip.
+# modules (scripts/build-spirv.sh). The tests themselves run in
+# `cargo test -p boundtrace-gpu` (scripts/test.sh runs it once this script
+# is done); with CI=true a missing adapter or module makes them FAIL, never
+# skip.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 

@@ -99,7 +99,9 @@
 //! Subnormals are assumed preserved (Vulkan allows flushing them).
 
 use boundtrace_fields::PointBlob;
-use boundtrace_gpu_kernel::{Constants, HitOut, PHASE_DONE, PixelLeg, PixelOut, WORKGROUP};
+use boundtrace_gpu_kernel::{
+    Constants, HitOut, PHASE_DONE, PHASE_SHADING, PixelLeg, PixelOut, WORKGROUP,
+};
 pub use boundtrace_gpu_kernel::{MAX_GPU_ROOTS, SceneKind};
 use boundtrace_tracer::camera::Camera;
 use boundtrace_tracer::march::MarchState;
@@ -188,14 +190,17 @@ pub enum GpuError {
     /// Running the shader or reading its results failed.
     Dispatch(String),
     /// `pixels` pixels made no progress in a dispatch: one tracing step
-    /// (or the normals of one pixel) needs more loop iterations than the
-    /// driver runs in one shader invocation (llvmpipe, lavapipe's
-    /// compiler, ends every loop of a group of 8 pixels after 65,535
-    /// iterations in all). A scene with fewer primitives, another method
-    /// or mode, or another driver may trace it.
+    /// (or one normal) needs more loop iterations than the driver runs in
+    /// one shader invocation (llvmpipe, lavapipe's compiler, ends every
+    /// loop of a group of 8 pixels after 65,535 iterations in all). A
+    /// scene with fewer primitives, another method or mode, or another
+    /// driver may trace it.
     LoopLimit {
         /// The pixels that made no progress.
         pixels: usize,
+        /// Of those, the pixels already traced, with normals still to be
+        /// written (the others are still tracing).
+        shading: usize,
     },
     /// The module has no entry point for the method (only `trace_sphere`
     /// unless the shader was built with its `trace` feature), or the driver
@@ -231,13 +236,13 @@ impl fmt::Display for GpuError {
                 "gpu: transparent mode keeps at most {MAX_GPU_ROOTS} roots per pixel, {n} asked"
             ),
             GpuError::Dispatch(e) => write!(f, "gpu: dispatch failed: {e}"),
-            GpuError::LoopLimit { pixels } => write!(
+            GpuError::LoopLimit { pixels, shading } => write!(
                 f,
-                "gpu: {pixels} pixels made no progress in a dispatch: one tracing step \
-                 (or the normals of one pixel) of this scene needs more loop iterations \
-                 than the driver allows in one shader invocation (llvmpipe/lavapipe: \
-                 65,535 per 8 pixels); use fewer primitives, another method or mode, or \
-                 another driver"
+                "gpu: {pixels} pixels ({shading} of them shading) made no progress in a \
+                 dispatch: one tracing step (or one normal) of this scene needs more loop \
+                 iterations than the driver allows in one shader invocation \
+                 (llvmpipe/lavapipe: 65,535 per 8 pixels); use fewer primitives, another \
+                 method or mode, or another driver"
             ),
             GpuError::MethodUnavailable { method, why } => {
                 write!(
@@ -320,11 +325,12 @@ impl GpuScene {
     ///
     /// A `molecule` step loops over 500 atoms: on lavapipe, whose
     /// llvmpipe allows 65,535 loop iterations per 8 pixels and dispatch,
-    /// some of its frames need more in one step or in one pixel's normals
-    /// and end in [`GpuError::LoopLimit`] (measured on 8 × 8 frames: the
-    /// four leg methods fit in opaque mode, `quadratic-taylor` in both;
-    /// the others' transparent normals do not; BENCHMARKS.md "GPU",
-    /// session 16).
+    /// some of its frames need more in one step and end in
+    /// [`GpuError::LoopLimit`] (measured on 8 × 8 frames: the four leg
+    /// methods fit in opaque mode, `quadratic-taylor` in both; the others'
+    /// transparent frames stop with 7 to 13 pixels still tracing, while
+    /// normals are written one root per leg; BENCHMARKS.md "GPU",
+    /// sessions 16 and 17).
     ///
     /// # Errors
     /// [`GpuError::UnsupportedScene`] for the other scenes: the HRBF and
@@ -1042,12 +1048,15 @@ impl GpuTracer {
                 break;
             }
             let words = read_back(dev, &legs_back)?;
-            let (pending, now) = leg_progress(&words[..pixels * LEG_WORDS]);
+            let (pending, shading, now) = leg_progress(&words[..pixels * LEG_WORDS]);
             if pending == 0 {
                 break;
             }
             if progress == Some(now) {
-                return Err(GpuError::LoopLimit { pixels: pending });
+                return Err(GpuError::LoopLimit {
+                    pixels: pending,
+                    shading,
+                });
             }
             progress = Some(now);
         }
@@ -1070,11 +1079,13 @@ impl GpuTracer {
     }
 }
 
-/// The pixels not done, and a measure of progress that grows whenever a
-/// pixel takes a step, shades a root or changes phase (the sum of
-/// phase·2³² + steps + shaded roots over the legs' words).
-fn leg_progress(words: &[u32]) -> (usize, u64) {
+/// The pixels not done, those of them in [`PHASE_SHADING`], and a measure
+/// of progress that grows whenever a pixel takes a step, shades a root or
+/// changes phase (the sum of phase·2³² + steps + shaded roots over the
+/// legs' words).
+fn leg_progress(words: &[u32]) -> (usize, usize, u64) {
     let mut pending = 0;
+    let mut shading = 0;
     let mut total = 0u64;
     use core::mem::offset_of;
     let phase_at = offset_of!(PixelLeg, phase) / 4;
@@ -1086,9 +1097,10 @@ fn leg_progress(words: &[u32]) -> (usize, u64) {
     for leg in words.chunks_exact(LEG_WORDS) {
         let phase = leg[phase_at];
         pending += usize::from(phase < PHASE_DONE);
+        shading += usize::from(phase == PHASE_SHADING);
         total += (u64::from(phase) << 32) + u64::from(leg[steps_at]) + u64::from(leg[shaded_at]);
     }
-    (pending, total)
+    (pending, shading, total)
 }
 
 /// The tracing pipeline of `entry` (8 × 8 workgroups, the shared layout);
@@ -1969,11 +1981,15 @@ mod tests {
             w
         };
         let words: Vec<u32> = [leg(PHASE_DONE, 9, 2), leg(1, 4, 0), leg(0, 0, 0)].concat();
-        assert_eq!(leg_progress(&words), (2, (3 << 32) + 9 + 2 + (1 << 32) + 4));
+        assert_eq!(
+            leg_progress(&words),
+            (2, 0, (3 << 32) + 9 + 2 + (1 << 32) + 4)
+        );
         // A pixel that shades one more root progresses.
         let more: Vec<u32> = [leg(PHASE_DONE, 9, 2), leg(2, 4, 1), leg(0, 0, 0)].concat();
         let shaded: Vec<u32> = [leg(PHASE_DONE, 9, 2), leg(2, 4, 2), leg(0, 0, 0)].concat();
-        assert!(leg_progress(&shaded).1 > leg_progress(&more).1);
+        assert_eq!(leg_progress(&more).1, 1);
+        assert!(leg_progress(&shaded).2 > leg_progress(&more).2);
     }
 
     #[test]

@@ -3,7 +3,7 @@
 //! `blobs-sum` at 32 × 32, `molecule` (500 Gaussian atoms) at 8 × 8. On
 //! lavapipe, whose llvmpipe ends every loop of 8 pixels after 65,535
 //! iterations per dispatch, some `molecule` frames need more in one step
-//! or in one pixel's normals: there [`MOLECULE_ON_LAVAPIPE`] must render
+//! (normals resume root by root): there [`MOLECULE_ON_LAVAPIPE`] must render
 //! and match, the other `molecule` frames must match or end in
 //! `GpuError::LoopLimit` (BENCHMARKS.md "GPU", session 16).
 //!
@@ -225,12 +225,13 @@ fn one_scene(
             let gpu_s = t.elapsed().as_secs_f64();
             let (g, dispatches) = match rendered {
                 Ok(r) => r,
-                Err(GpuError::LoopLimit { pixels })
+                Err(GpuError::LoopLimit { pixels, shading })
                     if lavapipe && name == "molecule" && !MOLECULE_ON_LAVAPIPE.contains(&case) =>
                 {
                     eprintln!(
                         "cut  {name:20} {method:20} {mode:?}: lavapipe's loop limit \
-                         ({pixels} pixels made no progress); CPU {cpu_s:.2} s, GPU {gpu_s:.2} s"
+                         ({pixels} pixels made no progress, {shading} of them shading); \
+                         CPU {cpu_s:.2} s, GPU {gpu_s:.2} s"
                     );
                     continue;
                 }
