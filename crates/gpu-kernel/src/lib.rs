@@ -1495,16 +1495,17 @@ mod tests {
                     assert_eq!((leg, out, hb), before);
                     assert_eq!(leg.shaded, a.roots);
                     // A cut shading is redone from the first root not
-                    // written: from root 1, root 0's hit is left alone.
-                    if a.roots > 1 {
-                        let (mut leg1, mut hb1) = (
-                            PixelLeg {
-                                phase: PHASE_SHADING,
-                                shaded: 1,
-                                ..leg
-                            },
-                            [HitOut::default(); 4],
-                        );
+                    // written (`from`): the hits before it are left alone.
+                    for from in [0, 1] {
+                        if from > 0 && a.roots <= from {
+                            continue;
+                        }
+                        let mut leg2 = PixelLeg {
+                            phase: PHASE_SHADING,
+                            shaded: from,
+                            ..leg
+                        };
+                        let mut hb2 = [HitOut::default(); 4];
                         render_leg(
                             &c,
                             &[],
@@ -1513,38 +1514,17 @@ mod tests {
                             x,
                             y,
                             &mut rb,
-                            &mut hb1,
+                            &mut hb2,
                             0,
-                            &mut leg1,
+                            &mut leg2,
                             &mut out,
                         );
-                        assert_eq!((leg1.phase, leg1.shaded, out), (PHASE_DONE, a.roots, a));
-                        assert_eq!(hb1[0], HitOut::default());
-                        assert_eq!(hb1[1..], ha[1..]);
-                        shaded_from_one += 1;
+                        assert_eq!((leg2.phase, leg2.shaded, out), (PHASE_DONE, a.roots, a));
+                        let k = from as usize;
+                        assert!(hb2[..k].iter().all(|h| *h == HitOut::default()));
+                        assert_eq!(hb2[k..], ha[k..]);
+                        shaded_from_one += usize::from(from == 1);
                     }
-                    let (mut leg2, mut hb2) = (
-                        PixelLeg {
-                            phase: PHASE_SHADING,
-                            shaded: 0,
-                            ..leg
-                        },
-                        [HitOut::default(); 4],
-                    );
-                    render_leg(
-                        &c,
-                        &[],
-                        &[],
-                        &blobs,
-                        x,
-                        y,
-                        &mut rb,
-                        &mut hb2,
-                        0,
-                        &mut leg2,
-                        &mut out,
-                    );
-                    assert_eq!((leg2.phase, out, hb2), (PHASE_DONE, a, ha));
                     if method != kernel {
                         assert_eq!(out.status, Status::Unsupported as u32);
                         continue;
