@@ -8,8 +8,14 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
+# Whether any Vulkan ICD manifest is installed (either directory may be
+# absent).
 have_icd() {
-    ls /usr/share/vulkan/icd.d/*.json /etc/vulkan/icd.d/*.json >/dev/null 2>&1
+    local f
+    for f in /usr/share/vulkan/icd.d/*.json /etc/vulkan/icd.d/*.json; do
+        [ -e "$f" ] && return 0
+    done
+    return 1
 }
 if ! have_icd; then
     echo "==> no Vulkan driver: installing lavapipe (mesa-vulkan-drivers, libvulkan1)"
