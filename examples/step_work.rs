@@ -151,7 +151,7 @@ fn main() -> ExitCode {
             };
             let slots = match mode {
                 Mode::Opaque => 1,
-                Mode::Transparent => 8,
+                Mode::Transparent => settings.max_roots as usize,
             };
             let (mut worst, mut at, mut steps, mut worst_row) = (0u64, (0, 0), 0u64, 0u64);
             for y in 0..size {

@@ -598,19 +598,20 @@ pub fn check_rng<T: Flt + FieldNum<T>>(mut rng: Rng, label: &str) -> Result<(), 
     if t1 <= t0 {
         return Ok(());
     }
-    let lin: ForwardLinear<T> = tree.eval(ForwardLinear::ray_param(t0, t1));
-    let quad: ForwardQuadratic<T> = tree.eval(ForwardQuadratic::ray_param_with(t0, t1, mode));
+    // Every node's bound: the roots are checked, the nodes' starts feed the
+    // per-operation start check.
+    let lin_all: Vec<ForwardLinear<T>> = tree.eval_all(ForwardLinear::ray_param(t0, t1));
+    let quad_all: Vec<ForwardQuadratic<T>> =
+        tree.eval_all(ForwardQuadratic::ray_param_with(t0, t1, mode));
+    let (lin, quad) = (
+        *lin_all.last().expect("non-empty tree"),
+        *quad_all.last().expect("non-empty tree"),
+    );
     let point: Interval<T> = tree.eval(Interval::point(t0));
     let bounds = [Parts::linear(lin), Parts::quadratic(quad)];
     let starts: [Vec<Interval<T>>; 2] = [
-        tree.eval_all(ForwardLinear::ray_param(t0, t1))
-            .iter()
-            .map(|b| b.start())
-            .collect(),
-        tree.eval_all(ForwardQuadratic::ray_param_with(t0, t1, mode))
-            .iter()
-            .map(|b| b.start())
-            .collect(),
+        lin_all.iter().map(|b| b.start()).collect(),
+        quad_all.iter().map(|b| b.start()).collect(),
     ];
     let ctx = || {
         format!(
