@@ -539,7 +539,7 @@ impl PixelKernel for SphereOnly {
 
 /// A pixel's resumable trace between two dispatches
 /// ([`render_sphere_leg`], [`render_segment_leg`]): the tracer's loop state
-/// the pixel's phase and its shading progress (`#[repr(C)]`, 13 words; the
+/// the pixel's phase and its shading progress (`#[repr(C)]`, 19 words; the
 /// host zero-fills the buffer, i.e. [`PHASE_FRESH`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[repr(C)]
@@ -588,7 +588,10 @@ pub fn loops_complete(n: u32) -> bool {
 }
 
 /// The tracer's step guard of the leg kernels: at most `until`
-/// steps in all, and [`loops_complete`] after every step.
+/// steps in all, and [`loops_complete`] after every step and every
+/// iteration of a step's inner loops (so that a step whose bisection needs
+/// more loop iterations than the limit ends over several legs:
+/// [`MarchState::inner`]).
 struct LimitProbe {
     loops: u32,
     until: u32,
@@ -840,8 +843,10 @@ impl<M: LegTrace> PixelKernel for Legs<M> {
 /// (zero-filled before the first dispatch), it traces until the trace ends
 /// ([`Constants::leg_steps`] steps at most) or the loop-limit probe
 /// ([`loops_complete`], [`Constants::guard_loops`]
-/// iterations after every step) fails, undoing the step the limit cut
-/// short, and saves the state in `leg`. A finished trace writes its record
+/// iterations after every step and every iteration of a step's inner
+/// loops) fails, undoing the step the limit cut short (its inner loop
+/// resumes after the last iteration the probe accepted), and saves the
+/// state in `leg`. A finished trace writes its record
 /// to `out` once; its hits (with normals) are written when a leg shades
 /// them without reaching the limit. The pixel is done at [`PHASE_DONE`];
 /// until then `out.status` may be [`STATUS_PAUSED`].
@@ -1230,7 +1235,7 @@ mod tests {
             0.0f32.to_bits(),
             "no Lipschitz bound unless the host sets one"
         );
-        assert_eq!(core::mem::size_of::<PixelLeg>(), 13 * 4);
+        assert_eq!(core::mem::size_of::<PixelLeg>(), 19 * 4);
         assert_eq!(w[34], GUARD_LOOPS);
         assert_eq!(w[28], Method::QuadraticMixed as u32);
         assert_eq!(f32::from_bits(w[32]), 0.5);

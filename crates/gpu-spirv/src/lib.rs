@@ -104,7 +104,7 @@ use boundtrace_gpu_kernel::{
 };
 pub use boundtrace_gpu_kernel::{MAX_GPU_ROOTS, SceneKind};
 use boundtrace_tracer::camera::Camera;
-use boundtrace_tracer::march::MarchState;
+
 use boundtrace_tracer::pixel::PixelSetup;
 use boundtrace_tracer::render::{Frame, Hit, Pixel, RenderError, RenderSettings};
 use boundtrace_tracer::scenes::{Scene, SceneField};
@@ -1047,18 +1047,21 @@ impl GpuTracer {
                     .map_err(|e| GpuError::Dispatch(e.to_string()))?;
                 break;
             }
-            let words = read_back(dev, &legs_back)?;
-            let (pending, shading, now) = leg_progress(&words[..pixels * LEG_WORDS]);
+            let mut words = read_back(dev, &legs_back)?;
+            words.truncate(pixels * LEG_WORDS);
+            let (pending, shading) = leg_progress(&words);
             if pending == 0 {
                 break;
             }
-            if progress == Some(now) {
+            // The legs are deterministic: a dispatch that changed no
+            // pixel's leg would be repeated forever.
+            if progress.as_ref() == Some(&words) {
                 return Err(GpuError::LoopLimit {
                     pixels: pending,
                     shading,
                 });
             }
-            progress = Some(now);
+            progress = Some(words);
         }
         let dispatch = start.elapsed();
         if first {
@@ -1079,28 +1082,18 @@ impl GpuTracer {
     }
 }
 
-/// The pixels not done, those of them in [`PHASE_SHADING`], and a measure
-/// of progress that grows whenever a pixel takes a step, shades a root or
-/// changes phase (the sum of phase·2³² + steps + shaded roots over the
-/// legs' words).
-fn leg_progress(words: &[u32]) -> (usize, usize, u64) {
+/// The pixels not done and those of them in [`PHASE_SHADING`], from the
+/// legs' words.
+fn leg_progress(words: &[u32]) -> (usize, usize) {
     let mut pending = 0;
     let mut shading = 0;
-    let mut total = 0u64;
-    use core::mem::offset_of;
-    let phase_at = offset_of!(PixelLeg, phase) / 4;
-    let shaded_at = offset_of!(PixelLeg, shaded) / 4;
-    let steps_at = (offset_of!(PixelLeg, state)
-        + offset_of!(MarchState<f32>, stats)
-        + offset_of!(RayStats, steps))
-        / 4;
+    let phase_at = core::mem::offset_of!(PixelLeg, phase) / 4;
     for leg in words.chunks_exact(LEG_WORDS) {
         let phase = leg[phase_at];
         pending += usize::from(phase < PHASE_DONE);
         shading += usize::from(phase == PHASE_SHADING);
-        total += (u64::from(phase) << 32) + u64::from(leg[steps_at]) + u64::from(leg[shaded_at]);
     }
-    (pending, shading, total)
+    (pending, shading)
 }
 
 /// The tracing pipeline of `entry` (8 × 8 workgroups, the shared layout);
@@ -1954,42 +1947,25 @@ mod tests {
     }
 
     #[test]
-    fn leg_progress_reads_phase_steps_and_shading() {
-        let leg = |phase, steps, shaded| {
-            let mut l = PixelLeg {
-                phase,
-                shaded,
-                ..PixelLeg::default()
-            };
-            l.state.stats.steps = steps;
-            l.state.t = 1.5;
-            let w: [u32; LEG_WORDS] = [
-                l.state.t.to_bits(),
-                l.state.omega.to_bits(),
-                l.state.win.to_bits(),
-                0,
-                0,
-                l.state.has_known,
-                l.state.prev as u32,
-                l.state.roots,
-                l.state.stats.steps,
-                l.state.stats.field_evals,
-                l.state.stats.bound_evals,
-                l.phase,
-                l.shaded,
-            ];
-            w
-        };
-        let words: Vec<u32> = [leg(PHASE_DONE, 9, 2), leg(1, 4, 0), leg(0, 0, 0)].concat();
+    fn leg_progress_counts_pending_and_shading_pixels() {
+        let phase_at = core::mem::offset_of!(PixelLeg, phase) / 4;
+        let mut words = vec![0u32; 4 * LEG_WORDS];
+        for (i, phase) in [PHASE_DONE, PHASE_SHADING, 1, PHASE_DONE]
+            .into_iter()
+            .enumerate()
+        {
+            words[i * LEG_WORDS + phase_at] = phase;
+        }
+        assert_eq!(leg_progress(&words), (2, 1));
+        // A fresh (zero-filled) frame: every pixel pending, none shading.
+        assert_eq!(leg_progress(&vec![0; 3 * LEG_WORDS]), (3, 0));
+        // The leg record: the tracer's state, then the phase and the roots
+        // shaded (what the shader writes).
         assert_eq!(
-            leg_progress(&words),
-            (2, 0, (3 << 32) + 9 + 2 + (1 << 32) + 4)
+            LEG_WORDS,
+            core::mem::size_of::<boundtrace_tracer::march::MarchState<f32>>() / 4 + 2,
+            "PixelLeg = MarchState + phase + shaded"
         );
-        // A pixel that shades one more root progresses.
-        let more: Vec<u32> = [leg(PHASE_DONE, 9, 2), leg(2, 4, 1), leg(0, 0, 0)].concat();
-        let shaded: Vec<u32> = [leg(PHASE_DONE, 9, 2), leg(2, 4, 2), leg(0, 0, 0)].concat();
-        assert_eq!(leg_progress(&more).1, 1);
-        assert!(leg_progress(&shaded).2 > leg_progress(&more).2);
     }
 
     #[test]

@@ -175,7 +175,61 @@ pub(crate) struct Walk<'a, T> {
     pub(crate) stats: RayStats,
     pub(crate) mode: Mode,
     pub(crate) eps: T,
+    /// Where the current step's inner loop resumes (see [`Inner`]).
+    pub(crate) inner: Inner,
+    /// The counts of the current step's inner-loop iterations that were
+    /// completed in earlier legs, or in this one: merged into `stats` when
+    /// the step completes.
+    pub(crate) inner_stats: RayStats,
 }
+
+/// Where a step's inner loop resumes after a guard cut it, or the result
+/// it reached.
+///
+/// [`StepGuard::after_step`] is also asked after each iteration of the
+/// loops inside a step — the interval halvings of a step certified by
+/// enclosures ([`interval_step`]) and the bisection that decides a short
+/// interval near the surface ([`resolve`]) — so that a step that needs more
+/// loop iterations than a driver's loop limit allows still ends, over
+/// several legs. A paused step is redone from its start on resume (its
+/// loop variables are those of the paused trace); its inner loop goes on
+/// from here, or gives the result it reached, without evaluating again.
+/// Only iterations the guard accepted are recorded here.
+///
+/// `#[repr(C)]`, 3 words.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[repr(C)]
+pub struct Inner {
+    /// One of the `INNER_*` constants.
+    pub stage: u32,
+    /// The halvings already tried ([`INNER_HALVING`]) or of the step found
+    /// ([`INNER_STEP`]); for the bisection stages, the path to the interval
+    /// to examine or where it ended (bit `i` set: the right half at depth
+    /// `i + 1`).
+    pub at: u32,
+    /// The bisection stages: the depth of that interval (`0`: the whole
+    /// interval).
+    pub depth: u32,
+}
+
+/// [`Inner::stage`]: the step starts afresh.
+pub const INNER_NONE: u32 = 0;
+/// [`Inner::stage`]: the interval halvings resume at [`Inner::at`].
+pub const INNER_HALVING: u32 = 1;
+/// [`Inner::stage`]: the halvings found a step after [`Inner::at`]
+/// halvings.
+pub const INNER_STEP: u32 = 2;
+/// [`Inner::stage`]: the halvings (if any) found no step; the bisection
+/// resumes at the interval of path [`Inner::at`] and depth [`Inner::depth`].
+pub const INNER_BISECTION: u32 = 3;
+/// [`Inner::stage`]: the bisection proved its interval root-free.
+pub const INNER_CLEAR: u32 = 4;
+/// [`Inner::stage`]: the bisection ended in a touch at the interval of
+/// [`Inner::at`] and [`Inner::depth`].
+pub const INNER_TOUCH: u32 = 5;
+/// [`Inner::stage`]: the bisection found a sign change in the interval of
+/// [`Inner::at`] and [`Inner::depth`].
+pub const INNER_CROSSING: u32 = 6;
 
 /// Whether to go on after registering a root.
 ///
@@ -188,6 +242,10 @@ pub(crate) struct Next<T> {
     pub(crate) stop: bool,
     /// The final trace record when `stop`.
     pub(crate) trace: Trace<T>,
+    /// (Not `stop`.) The guard cut the step's inner loop: the step is
+    /// undone and the trace pauses before it, its inner loop to resume at
+    /// [`Walk::inner`].
+    pub(crate) cut: bool,
 }
 
 impl<'a, T: Real> Walk<'a, T> {
@@ -198,6 +256,8 @@ impl<'a, T: Real> Walk<'a, T> {
             stats: RayStats::default(),
             mode,
             eps,
+            inner: Inner::default(),
+            inner_stats: RayStats::default(),
         }
     }
 
@@ -214,6 +274,7 @@ impl<'a, T: Real> Walk<'a, T> {
         Next {
             stop: false,
             trace: self.done(Status::Finished, t),
+            cut: false,
         }
     }
 
@@ -221,6 +282,16 @@ impl<'a, T: Real> Walk<'a, T> {
         Next {
             stop: true,
             trace: self.done(status, t_reached),
+            cut: false,
+        }
+    }
+
+    /// The step's inner loop was cut at `t` (see [`Next::cut`]).
+    fn cut(&self, t: T) -> Next<T> {
+        Next {
+            stop: false,
+            trace: self.done(Status::Finished, t),
+            cut: true,
         }
     }
 
@@ -280,8 +351,10 @@ impl<T> Probe<T> {
 /// The root test near `t`: `s` is the sign at `t` (`0` if `f(t)` is not
 /// proven nonzero), `prev` the sign before `t` (`0` at the start of the
 /// span), `r` the proven root-free length from `t`.
+/// A cut of the bisection under `guard` gives a probe whose `next` is
+/// [`cut`](Next::cut).
 #[allow(clippy::too_many_arguments)]
-fn probe<T: Real, F: Field<T>>(
+fn probe<T: Real, F: Field<T>, G: StepGuard>(
     field: &F,
     ray: &Ray<T>,
     t: T,
@@ -291,6 +364,7 @@ fn probe<T: Real, F: Field<T>>(
     r: T,
     eps: T,
     w: &mut Walk<'_, T>,
+    guard: &mut G,
 ) -> Probe<T> {
     let tp = advance(t, eps).min(t1);
     let sp = sign_of(value_enclosure(field, ray, tp));
@@ -322,7 +396,13 @@ fn probe<T: Real, F: Field<T>>(
     }
     // Same sign at both ends: prove [t, tp] root-free, find a sign change
     // in it, or call it a touch.
-    match resolve(field, ray, t, tp, approach, &mut w.stats) {
+    match resolve(field, ray, t, tp, approach, w, guard) {
+        Fine::Cut => Probe {
+            next: w.cut(t),
+            t,
+            sign: approach,
+            rooted: false,
+        },
         Fine::Clear => Probe {
             next: w.go(tp),
             t: tp,
@@ -362,6 +442,8 @@ pub(crate) enum Fine<T> {
     /// resolution, first at `u`: the field touches `0` there within the
     /// enclosures' width.
     Touch(T),
+    /// The guard cut the bisection: it resumes at [`Walk::inner`].
+    Cut,
 }
 
 /// Decides a short interval `[a, b]` whose ends both have the sign `s ≠ 0`:
@@ -369,41 +451,126 @@ pub(crate) enum Fine<T> {
 /// probing the sign at each midpoint. Interval enclosures are wide near a
 /// surface (a root just outside `[a, b]` keeps `0` in a coarse enclosure),
 /// so a coarse "cannot exclude `0`" alone would report spurious touches.
-pub(crate) fn resolve<T: Real, F: Field<T>>(
+///
+/// A depth-first walk without a stack: the interval to examine is its path
+/// from `[a, b]` (bit `i`: the right half at depth `i + 1`), its ends
+/// recomputed by the same halvings each time (so bit for bit those of a
+/// stack of intervals). `guard` is asked after each interval (one interval
+/// enclosure, perhaps a point); each accepted interval updates `w.inner`
+/// (the next interval, or the result reached: see [`Inner`]) and its
+/// counts go to `w.inner_stats`; when the guard refuses, the walk stops
+/// before the refused interval and gives [`Fine::Cut`].
+pub(crate) fn resolve<T: Real, F: Field<T>, G: StepGuard>(
     field: &F,
     ray: &Ray<T>,
     a: T,
     b: T,
     s: i32,
-    stats: &mut RayStats,
+    w: &mut Walk<'_, T>,
+    guard: &mut G,
 ) -> Fine<T> {
-    const CAP: usize = TOUCH_DEPTH as usize + 2;
-    let mut stack = [(T::ZERO, T::ZERO, 0u32); CAP];
-    stack[0] = (a, b, 0);
-    let mut sp = 1usize;
-    while sp > 0 {
-        sp -= 1;
-        let (u, v, d) = stack[sp];
-        let enc: Interval<T> = field.eval(ray.at::<Interval<T>>(u, v));
-        stats.bound_evals += 1;
-        if sign_of(enc) == s {
-            continue;
-        }
-        let m = u + (v - u) * T::HALF;
-        if d >= TOUCH_DEPTH || !(m > u && m < v) || sp + 2 > CAP {
-            return Fine::Touch(u);
-        }
-        let fm = value_enclosure(field, ray, m);
-        stats.field_evals += 1;
-        if sign_of(fm) != s {
-            // Everything left of u is cleared: the first root is in (u, m].
-            return Fine::Crossing(u + (m - u) * T::HALF, m);
-        }
-        stack[sp] = (m, v, d + 1);
-        stack[sp + 1] = (u, m, d + 1);
-        sp += 2;
+    let stage = w.inner.stage;
+    if stage >= INNER_CLEAR {
+        return bisection_result(a, b, w.inner);
     }
-    Fine::Clear
+    let (mut path, mut depth) = (w.inner.at, w.inner.depth);
+    if stage != INNER_BISECTION {
+        (path, depth) = (0, 0);
+    }
+    // A `while` on a flag (see `run_guarded`): a loop that a driver ends
+    // early leaves `running` set, and the walk pauses where it was.
+    let mut running = true;
+    while running {
+        let (u, v) = bisected(a, b, path, depth);
+        let enc: Interval<T> = field.eval(ray.at::<Interval<T>>(u, v));
+        let cleared = sign_of(enc) == s;
+        let m = u + (v - u) * T::HALF;
+        let finest = !cleared && (depth >= TOUCH_DEPTH || !(m > u && m < v));
+        let mut points = 0u32;
+        let mut crossing = false;
+        if !cleared && !finest {
+            points = 1;
+            crossing = sign_of(value_enclosure(field, ray, m)) != s;
+        }
+        // The next interval, in the walk's order: after a cleared one, the
+        // right sibling of its nearest ancestor (itself included) that is
+        // a left half; after a split one, its left half.
+        let (mut next_path, mut next_depth) = (path, depth + 1);
+        let mut last = false;
+        if cleared {
+            next_depth = depth;
+            while next_depth > 0 && (next_path >> (next_depth - 1)) & 1 == 1 {
+                next_path &= !(1u32 << (next_depth - 1));
+                next_depth -= 1;
+            }
+            if next_depth == 0 {
+                last = true;
+            } else {
+                next_path |= 1u32 << (next_depth - 1);
+            }
+        }
+        if !guard.after_step() {
+            break;
+        }
+        // Accepted: recorded (only accepted work is, so that a refusal
+        // leaves `w.inner` as the last accepted interval left it).
+        w.inner_stats.bound_evals += 1;
+        w.inner_stats.field_evals += points;
+        let mut stage = INNER_BISECTION;
+        if finest || crossing {
+            // A crossing: everything left of u is cleared, the first root
+            // is in (u, m].
+            stage = if finest { INNER_TOUCH } else { INNER_CROSSING };
+            running = false;
+        } else if last {
+            stage = INNER_CLEAR;
+            running = false;
+        } else {
+            (path, depth) = (next_path, next_depth);
+        }
+        w.inner = Inner {
+            stage,
+            at: path,
+            depth,
+        };
+    }
+    if running {
+        return Fine::Cut;
+    }
+    // The result just saved, as a resumed step reads it.
+    bisection_result(a, b, w.inner)
+}
+
+/// The result of a bisection of `[a, b]` that ended at `inner`
+/// ([`INNER_CLEAR`], [`INNER_TOUCH`] or [`INNER_CROSSING`]).
+fn bisection_result<T: Real>(a: T, b: T, inner: Inner) -> Fine<T> {
+    if inner.stage == INNER_CLEAR {
+        return Fine::Clear;
+    }
+    let (u, v) = bisected(a, b, inner.at, inner.depth);
+    let m = u + (v - u) * T::HALF;
+    if inner.stage == INNER_TOUCH {
+        Fine::Touch(u)
+    } else {
+        Fine::Crossing(u + (m - u) * T::HALF, m)
+    }
+}
+
+/// The interval of path `path` and depth `depth` in the bisection of
+/// `[a, b]` ([`resolve`]).
+fn bisected<T: Real>(a: T, b: T, path: u32, depth: u32) -> (T, T) {
+    let (mut u, mut v) = (a, b);
+    let mut i = 0u32;
+    while i < depth {
+        let m = u + (v - u) * T::HALF;
+        if (path >> i) & 1 == 1 {
+            u = m;
+        } else {
+            v = m;
+        }
+        i += 1;
+    }
+    (u, v)
 }
 
 /// A forward bound of the given kind (what `linear_bound`/`quadratic_bound`
@@ -569,30 +736,87 @@ fn bottom_up_quadratic<T: Real, F: Field<T>>(
     field.eval([tq * dx + ox, tq * dy + oy, tq * dz + oz])
 }
 
+/// What [`interval_step`] found.
+enum Halving<T> {
+    /// A root-free step of this length.
+    Step(T),
+    /// No step down to `eps`.
+    Fail,
+    /// The guard cut the halvings: they resume at [`Walk::inner`].
+    Cut,
+}
+
 /// The longest of `e − t`, `(e − t)/2`, … (down to `eps`) over which an
-/// interval enclosure of `f` has the sign `s ≠ 0`; `None` if none has.
-fn interval_step<T: Real, F: Field<T>>(
+/// interval enclosure of `f` has the sign `s ≠ 0`; [`Halving::Fail`] if none
+/// has.
+///
+/// `guard` is asked after each halving tried; when it refuses, the
+/// halvings stop before the refused one, `w.inner` says where they resume
+/// and the result is [`Halving::Cut`]. A step found is saved there too, so
+/// that a resumed step does not try the halvings again (after a failure
+/// the bisection that follows, [`resolve`], records its first accepted
+/// interval, from which a resumed step skips the halvings). The counts go
+/// to `w.inner_stats`.
+#[allow(clippy::too_many_arguments)]
+fn interval_step<T: Real, F: Field<T>, G: StepGuard>(
     field: &F,
     ray: &Ray<T>,
     t: T,
     e: T,
     s: i32,
     eps: T,
-    stats: &mut RayStats,
-) -> Option<T> {
-    if s == 0 {
-        return None;
+    w: &mut Walk<'_, T>,
+    guard: &mut G,
+) -> Halving<T> {
+    let stage = w.inner.stage;
+    if s == 0 || stage >= INNER_BISECTION {
+        return Halving::Fail;
     }
+    let mut k = if stage == INNER_HALVING || stage == INNER_STEP {
+        w.inner.at
+    } else {
+        0u32
+    };
     let mut len = e - t;
-    while len >= eps {
-        let enc: Interval<T> = field.eval(ray.at::<Interval<T>>(t, advance(t, len)));
-        stats.bound_evals += 1;
-        if sign_of(enc) == s {
-            return Some(len);
-        }
+    let mut i = 0u32;
+    while i < k {
         len = len * T::HALF;
+        i += 1;
     }
-    None
+    if stage == INNER_STEP {
+        return Halving::Step(len);
+    }
+    let mut found = false;
+    let mut refused = false;
+    while !found && len >= eps {
+        let enc: Interval<T> = field.eval(ray.at::<Interval<T>>(t, advance(t, len)));
+        let fits = sign_of(enc) == s;
+        if !guard.after_step() {
+            refused = true;
+            break;
+        }
+        // Accepted: recorded (only accepted work is, see `resolve`).
+        w.inner_stats.bound_evals += 1;
+        if fits {
+            found = true;
+        } else {
+            len = len * T::HALF;
+            k += 1;
+        }
+        w.inner = Inner {
+            stage: if found { INNER_STEP } else { INNER_HALVING },
+            at: k,
+            depth: 0,
+        };
+    }
+    if found {
+        Halving::Step(len)
+    } else if refused || len >= eps {
+        // Refused, or a loop that a driver ended early (`len ≥ eps`).
+        Halving::Cut
+    } else {
+        Halving::Fail
+    }
 }
 
 /// Tries to replace a short safe step by `min_step` (see the module docs):
@@ -741,6 +965,7 @@ pub(crate) fn window_run<B: WindowBounds, T: Real, F: Field<T>, G: StepGuard>(
     let mut w = Walk::new(roots, mode, params.eps);
     w.n = st.roots;
     w.stats = st.stats;
+    (w.inner, w.inner_stats) = (st.inner, st.inner_stats);
     let mut s = Window::<T, B> {
         t: st.t,
         win: st.win,
@@ -756,6 +981,8 @@ pub(crate) fn window_run<B: WindowBounds, T: Real, F: Field<T>, G: StepGuard>(
             prev: s.prev,
             roots: w.n,
             stats: w.stats,
+            inner: w.inner,
+            inner_stats: w.inner_stats,
             ..*st
         };
     }
@@ -788,13 +1015,14 @@ impl<T: Real, B: WindowBounds> Stepper<T> for Window<T, B> {
     }
 
     /// One step of Alg. 1 from `t` (before `t1`).
-    fn step<F: Field<T>>(
+    fn step<F: Field<T>, G: StepGuard>(
         &mut self,
         field: &F,
         ray: &Ray<T>,
         t1: T,
         params: &Params<T>,
         w: &mut Walk<'_, T>,
+        guard: &mut G,
     ) -> Next<T> {
         let eps = params.eps;
         let t = self.t;
@@ -817,13 +1045,16 @@ impl<T: Real, B: WindowBounds> Stepper<T> for Window<T, B> {
         }
         // The proven root-free length when a root may lie within eps.
         let near = if degenerate || (s != 0 && sign_of(b.start) == 0) {
-            if let Some(step) = interval_step(field, ray, t, e, s, eps, &mut w.stats) {
-                self.prev = s;
-                self.t = advance(t, step);
-                self.win = step * params.k;
-                return w.go(self.t);
+            match interval_step(field, ray, t, e, s, eps, w, guard) {
+                Halving::Step(step) => {
+                    self.prev = s;
+                    self.t = advance(t, step);
+                    self.win = step * params.k;
+                    return w.go(self.t);
+                }
+                Halving::Cut => return w.cut(t),
+                Halving::Fail => Some(T::ZERO),
             }
-            Some(T::ZERO)
         } else {
             match b.safe {
                 _ if s == 0 => Some(T::ZERO),
@@ -832,8 +1063,8 @@ impl<T: Real, B: WindowBounds> Stepper<T> for Window<T, B> {
             }
         };
         if let Some(r) = near {
-            let p = probe(field, ray, t, t1, s, self.prev, r, eps, w);
-            if p.next.stop {
+            let p = probe(field, ray, t, t1, s, self.prev, r, eps, w, guard);
+            if p.next.stop || p.next.cut {
                 return p.next;
             }
             (self.t, self.prev) = (p.t, p.sign);
@@ -863,14 +1094,17 @@ trait Stepper<T: Real>: Copy {
     /// The ray parameter the next step starts from.
     fn at(&self) -> T;
     /// One step from [`at`](Stepper::at) (before `t1`): `stop` with the
-    /// final record, or go on from the updated loop variables.
-    fn step<F: Field<T>>(
+    /// final record, go on from the updated loop variables, or
+    /// [`cut`](Next::cut) by `guard` inside the step (the caller undoes
+    /// the step; its inner loop resumes at [`Walk::inner`]).
+    fn step<F: Field<T>, G: StepGuard>(
         &mut self,
         field: &F,
         ray: &Ray<T>,
         t1: T,
         params: &Params<T>,
         w: &mut Walk<'_, T>,
+        guard: &mut G,
     ) -> Next<T>;
 }
 
@@ -916,15 +1150,22 @@ fn run_guarded<T: Real, F: Field<T>, S: Stepper<T>, G: StepGuard>(
                 side: Side::Touch,
             }
         };
-        let next = s.step(field, ray, t1, params, w);
-        if !guard.after_step() {
+        let mut next = s.step(field, ray, t1, params, w, guard);
+        // Undone when cut inside, or refused after: the step's inner loop
+        // keeps the progress its guard accepted (`w.inner`).
+        if next.cut || !guard.after_step() {
             if n > 0 {
                 w.roots.set(n as usize - 1, last);
             }
             (*s, w.n, w.stats) = (before, n, stats);
             break;
         }
+        // The step is done: its inner loops' counts join the trace's.
+        w.stats.field_evals += w.inner_stats.field_evals;
+        w.stats.bound_evals += w.inner_stats.bound_evals;
+        (w.inner, w.inner_stats) = (Inner::default(), RayStats::default());
         if next.stop {
+            next.trace.stats = w.stats;
             out = next;
             running = false;
         }
@@ -983,7 +1224,7 @@ fn final_record<T>(next: Next<T>) -> Trace<T> {
 /// [`trace_sphere_resume_in`](crate::trace_sphere_resume_in),
 /// [`trace_segment_resume_in`](crate::trace_segment_resume_in)).
 ///
-/// `#[repr(C)]`, 11 words for `f32`: the GPU keeps one per pixel in a
+/// `#[repr(C)]`, 17 words for `f32`: the GPU keeps one per pixel in a
 /// storage buffer between dispatches. The root buffer (roots `0..roots`)
 /// is kept by the caller. A state belongs to one method and one span.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -1005,8 +1246,12 @@ pub struct MarchState<T> {
     pub prev: i32,
     /// Roots registered so far.
     pub roots: u32,
-    /// The counters so far.
+    /// The counters so far (of the steps completed).
     pub stats: RayStats,
+    /// Where the next step's inner loop resumes, when a guard cut it.
+    pub inner: Inner,
+    /// The counts of that step's inner-loop iterations already done.
+    pub inner_stats: RayStats,
 }
 
 impl<T: Real> MarchState<T> {
@@ -1021,6 +1266,8 @@ impl<T: Real> MarchState<T> {
             prev: 0,
             roots: 0,
             stats: RayStats::default(),
+            inner: Inner::default(),
+            inner_stats: RayStats::default(),
         }
     }
 }
@@ -1035,8 +1282,11 @@ pub trait StepGuard {
     /// Called before each step, with the steps taken so far: `false`
     /// pauses the trace there.
     fn before_step(&mut self, steps: u32) -> bool;
-    /// Called after each step: `false` says the step's work cannot be
-    /// trusted; the step is undone and the trace pauses before it.
+    /// Called after each step, and after each iteration of the loops
+    /// inside a step (see [`Inner`]): `false` says the work since the
+    /// previous call cannot be trusted; the step is undone and the trace
+    /// pauses before it, its inner loop to resume after the last iteration
+    /// accepted.
     fn after_step(&mut self) -> bool;
 }
 
@@ -1072,6 +1322,7 @@ pub(crate) fn sphere_run<T: Real, F: Field<T>, G: StepGuard>(
     let mut w = Walk::new(roots, mode, params.eps);
     w.n = st.roots;
     w.stats = st.stats;
+    (w.inner, w.inner_stats) = (st.inner, st.inner_stats);
     let Some(l) = field.lipschitz() else {
         return w.stop(Status::Unsupported, t0);
     };
@@ -1104,6 +1355,8 @@ pub(crate) fn sphere_run<T: Real, F: Field<T>, G: StepGuard>(
             prev: s.prev,
             roots: w.n,
             stats: w.stats,
+            inner: w.inner,
+            inner_stats: w.inner_stats,
             ..*st
         };
     }
@@ -1129,13 +1382,14 @@ impl<T: Real> Stepper<T> for Sphere<T> {
     }
 
     /// One sphere-tracing step from `t` (before `t1`).
-    fn step<F: Field<T>>(
+    fn step<F: Field<T>, G: StepGuard>(
         &mut self,
         field: &F,
         ray: &Ray<T>,
         t1: T,
         params: &Params<T>,
         w: &mut Walk<'_, T>,
+        guard: &mut G,
     ) -> Next<T> {
         let eps = params.eps;
         let t = self.t;
@@ -1155,7 +1409,7 @@ impl<T: Real> Stepper<T> for Sphere<T> {
             round::div_down(f.mig(), self.lambda)
         };
         if r < eps {
-            let p = probe(field, ray, t, t1, sg, self.prev, r, eps, w);
+            let p = probe(field, ray, t, t1, sg, self.prev, r, eps, w, guard);
             (self.t, self.prev) = (p.t, p.sign);
             return p.next;
         }
@@ -1424,6 +1678,119 @@ mod tests {
         }
         // The guards did pause the traces.
         assert!(legs_seen > 500, "{legs_seen}");
+    }
+
+    /// A guard like lavapipe's loop limiter: `budget` checks pass in a leg,
+    /// every later one fails.
+    struct Budget(u32);
+    impl StepGuard for Budget {
+        fn before_step(&mut self, _steps: u32) -> bool {
+            true
+        }
+        fn after_step(&mut self) -> bool {
+            if self.0 == 0 {
+                return false;
+            }
+            self.0 -= 1;
+            true
+        }
+    }
+
+    #[test]
+    fn steps_longer_than_a_leg_end_over_several_legs() {
+        use crate::trace::{trace_in, trace_resume_in};
+        use boundtrace_fields::{Blobs, Kernel, PointBlob};
+        // Thin shells (sphere tracing's probes bisect near them) and
+        // overlapping blobs (the window methods' steps certified by
+        // interval halvings, then bisected).
+        struct Shells;
+        impl Field<f64> for Shells {
+            fn eval<N: FieldNum<f64>>(&self, p: [N; 3]) -> N {
+                let r = (p[0].sqr() + p[1].sqr() + p[2].sqr()).sqrt();
+                ((r - 1.0).abs() - 0.01).min(r - 0.3)
+            }
+            fn lipschitz(&self) -> Option<f64> {
+                Some(1.0)
+            }
+        }
+        let k = Kernel::compact(6, 1.0).unwrap();
+        let blobs = Blobs::new(
+            0.35,
+            [
+                PointBlob::new([-1.2, 0.0, 0.0], 1.0, k).unwrap(),
+                PointBlob::new([-0.3, 0.2, 0.0], 0.7, k).unwrap(),
+                PointBlob::new([0.9, -0.1, 0.1], 1.1, k).unwrap(),
+            ],
+        )
+        .unwrap();
+        fn legs<F: Field<f64>>(
+            field: &F,
+            m: Method,
+            y: f64,
+            mode: Mode,
+            budget: u32,
+            mid_step: &mut u32,
+        ) -> u32 {
+            let p = Params::new();
+            let ray = Ray::new([-3.0, y, 0.05], [1.0, 0.0, 0.0]);
+            let (span, window) = ([0.0, 6.0], [1, 6]);
+            let mut once = [NONE; 8];
+            let whole = trace_in(field, &ray, span, m, mode, &p, &mut once, window);
+            let mut buf = [NONE; 8];
+            let mut st = MarchState::start(span, &p);
+            let mut n = 0;
+            let last = loop {
+                n += 1;
+                assert!(n < 100_000, "{m}: no progress");
+                let leg = trace_resume_in(
+                    field,
+                    &ray,
+                    span,
+                    m,
+                    mode,
+                    &p,
+                    &mut buf,
+                    window,
+                    &mut st,
+                    &mut Budget(budget),
+                );
+                if !leg.paused {
+                    break leg.trace;
+                }
+                *mid_step += u32::from(st.inner.stage != INNER_NONE);
+            };
+            assert_eq!(last, whole, "{m} y {y} {mode:?} budget {budget}");
+            for (x, z) in once.iter().zip(&buf) {
+                assert_eq!((x.t.to_bits(), x.side), (z.t.to_bits(), z.side));
+            }
+            n
+        }
+        let mut mid_step = 0;
+        let mut total = 0;
+        for budget in [1, 2, 3, 7] {
+            for mode in [Mode::Opaque, Mode::Transparent] {
+                for y in [0.0, 0.5, 0.99, 1.005] {
+                    total += legs(&Shells, Method::Sphere, y, mode, budget, &mut mid_step);
+                }
+                for m in [
+                    Method::Segment,
+                    Method::LinearTaylor,
+                    Method::LinearBottomUp,
+                    Method::QuadraticTaylor,
+                    Method::QuadraticMixed,
+                ] {
+                    for y in [0.0, 0.3, 0.55, 0.7] {
+                        total += legs(&blobs, m, y, mode, budget, &mut mid_step);
+                    }
+                }
+            }
+        }
+        // With one check per leg, every inner loop of more than one
+        // iteration was cut inside its step.
+        assert!(
+            mid_step > 100,
+            "{mid_step} of {total} legs paused inside a step"
+        );
     }
 
     #[test]
