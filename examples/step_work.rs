@@ -17,7 +17,13 @@
 //! Besides the worst pixel, each row of 8 pixels (a group of 8 lanes when
 //! a workgroup's rows are its subgroups) gets the sum of its pixels' worst
 //! steps: an upper estimate of one group step where the lanes diverge.
-//! Single thread; counts, not times. Bad arguments exit with 2.
+//!
+//! The step guard is asked after each step and after each iteration of the
+//! loops inside a step (`boundtrace::tracer::march::Inner`): work between
+//! two such checks is what one leg must fit at least, so the last two
+//! columns give the most calls between two checks (worst pixel, and the
+//! worst row's sum). Single thread; counts, not times. Bad arguments exit
+//! with 2.
 
 use std::cell::Cell;
 use std::process::ExitCode;
@@ -59,22 +65,33 @@ impl<F: Field<f32>> Field<f32> for Counted<'_, F> {
     }
 }
 
-/// A step guard that never pauses and records the calls of each step.
+/// A step guard that never pauses and records the calls of each step and
+/// between two checks.
 struct PerStep<'a> {
     calls: &'a Cell<u64>,
+    /// The calls before the current step.
     before: u64,
+    /// The calls at the last check.
+    checked: u64,
     worst: u64,
+    worst_between: u64,
     steps: u64,
 }
 
 impl StepGuard for PerStep<'_> {
     fn before_step(&mut self, _steps: u32) -> bool {
         self.before = self.calls.get();
+        self.checked = self.before;
+        self.steps += 1;
         true
     }
     fn after_step(&mut self) -> bool {
-        self.worst = self.worst.max(self.calls.get() - self.before);
-        self.steps += 1;
+        let now = self.calls.get();
+        // Within a step the calls since `before` only grow: the last
+        // check of a step sees the whole step.
+        self.worst = self.worst.max(now - self.before);
+        self.worst_between = self.worst_between.max(now - self.checked);
+        self.checked = now;
         true
     }
 }
@@ -137,9 +154,9 @@ fn main() -> ExitCode {
     );
     println!();
     println!(
-        "| method | mode | steps | worst step (calls) | at pixel | worst row of 8: sum of its pixels' worst steps |"
+        "| method | mode | steps | worst step (calls) | at pixel | worst row of 8: sum of its pixels' worst steps | worst between two checks (calls) | worst row of 8: sum |"
     );
-    println!("| --- | --- | --: | --: | --- | --: |");
+    println!("| --- | --- | --: | --: | --- | --: | --: | --: |");
     for &method in &methods {
         for mode in [Mode::Opaque, Mode::Transparent] {
             let settings = match RenderSettings::new(size, size, method)
@@ -154,8 +171,10 @@ fn main() -> ExitCode {
                 Mode::Transparent => settings.max_roots as usize,
             };
             let (mut worst, mut at, mut steps, mut worst_row) = (0u64, (0, 0), 0u64, 0u64);
+            let (mut worst_between, mut worst_row_between) = (0u64, 0u64);
             for y in 0..size {
                 let mut row = vec![0u64; size as usize];
+                let mut row_between = vec![0u64; size as usize];
                 for x in 0..size {
                     let ray = camera.ray(x, y, size, size);
                     let Some(span) = ray_box_span(&ray, &bounds) else {
@@ -175,7 +194,9 @@ fn main() -> ExitCode {
                     let mut guard = PerStep {
                         calls: &calls,
                         before: 0,
+                        checked: 0,
                         worst: 0,
+                        worst_between: 0,
                         steps: 0,
                     };
                     let leg = trace_resume_in(
@@ -198,6 +219,8 @@ fn main() -> ExitCode {
                     }
                     steps += guard.steps;
                     row[x as usize] = guard.worst;
+                    row_between[x as usize] = guard.worst_between;
+                    worst_between = worst_between.max(guard.worst_between);
                     if guard.worst > worst {
                         (worst, at) = (guard.worst, (x, y));
                     }
@@ -205,9 +228,12 @@ fn main() -> ExitCode {
                 for group in row.chunks(8) {
                     worst_row = worst_row.max(group.iter().sum());
                 }
+                for group in row_between.chunks(8) {
+                    worst_row_between = worst_row_between.max(group.iter().sum());
+                }
             }
             println!(
-                "| {method} | {mode:?} | {steps} | {worst} | ({}, {}) | {worst_row} |",
+                "| {method} | {mode:?} | {steps} | {worst} | ({}, {}) | {worst_row} | {worst_between} | {worst_row_between} |",
                 at.0, at.1
             );
         }

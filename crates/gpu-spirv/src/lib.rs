@@ -189,9 +189,11 @@ pub enum GpuError {
     MaxRoots(u32),
     /// Running the shader or reading its results failed.
     Dispatch(String),
-    /// `pixels` pixels made no progress in a dispatch: one tracing step
-    /// (or one normal) needs more loop iterations than the driver runs in
-    /// one shader invocation (llvmpipe, lavapipe's compiler, ends every
+    /// `pixels` pixels made no progress in a dispatch: the work between two
+    /// checks of the loop limit — one tracing step, or one iteration of the
+    /// interval halvings or the bisection inside a step
+    /// (`boundtrace_tracer::march::Inner`), or one normal — needs more
+    /// loop iterations than the driver runs in one shader invocation (llvmpipe, lavapipe's compiler, ends every
     /// loop of a group of 8 pixels after 65,535 iterations in all). A
     /// scene with fewer primitives, another method or mode, or another
     /// driver may trace it.
@@ -239,8 +241,8 @@ impl fmt::Display for GpuError {
             GpuError::LoopLimit { pixels, shading } => write!(
                 f,
                 "gpu: {pixels} pixels ({shading} of them shading) made no progress in a \
-                 dispatch: one tracing step (or one normal) of this scene needs more loop \
-                 iterations than the driver allows in one shader invocation \
+                 dispatch: one tracing step's part between two checks of the loop limit \
+                 (or one normal) of this scene needs more loop iterations than the driver allows in one shader invocation \
                  (llvmpipe/lavapipe: 65,535 per 8 pixels); use fewer primitives, another \
                  method or mode, or another driver"
             ),

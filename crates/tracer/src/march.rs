@@ -188,8 +188,8 @@ pub(crate) struct Walk<'a, T> {
 ///
 /// [`StepGuard::after_step`] is also asked after each iteration of the
 /// loops inside a step — the interval halvings of a step certified by
-/// enclosures ([`interval_step`]) and the bisection that decides a short
-/// interval near the surface ([`resolve`]) — so that a step that needs more
+/// enclosures and the bisection that decides a short interval near the
+/// surface (both in `march.rs`) — so that a step that needs more
 /// loop iterations than a driver's loop limit allows still ends, over
 /// several legs. A paused step is redone from its start on resume (its
 /// loop variables are those of the paused trace); its inner loop goes on
