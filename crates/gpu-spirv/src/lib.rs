@@ -67,8 +67,8 @@
 //! Limits: `f32` only; the per-pixel root buffer of transparent mode holds
 //! [`MAX_GPU_ROOTS`] roots (more is a [`GpuError::MaxRoots`]); scenes with
 //! flat GPU data are the blob scenes (`blobs`, `blobs-sum`) and `molecule`
-//! (some of whose frames exceed lavapipe's loop limit:
-//! [`GpuError::LoopLimit`], see [`GpuScene::from_scene`]).
+//! (which lavapipe's loop limit makes slow, in many legs: see
+//! [`GpuScene::from_scene`] and [`GpuError::LoopLimit`]).
 //!
 //! # Soundness on a GPU
 //! The interval code rounds outward from correctly rounded `+ − ×` (Vulkan
@@ -325,14 +325,15 @@ impl GpuScene {
     /// Gaussian atoms with its generator's global Lipschitz bound,
     /// [`Constants::lipschitz`]).
     ///
-    /// A `molecule` step loops over 500 atoms: on lavapipe, whose
-    /// llvmpipe allows 65,535 loop iterations per 8 pixels and dispatch,
-    /// some of its frames need more in one step and end in
-    /// [`GpuError::LoopLimit`] (measured on 8 × 8 frames: the four leg
-    /// methods fit in opaque mode, `quadratic-taylor` in both; the others'
-    /// transparent frames stop with 7 to 13 pixels still tracing, while
-    /// normals are written one root per leg; BENCHMARKS.md "GPU",
-    /// sessions 16 and 17).
+    /// A `molecule` field call loops over 500 atoms: lavapipe's llvmpipe
+    /// allows 65,535 loop iterations per 8 pixels and dispatch, so its
+    /// frames run in many legs, each step, each iteration inside a step
+    /// and each normal checked against the limit (at most 4 field calls
+    /// between two checks on the difftests' 8 × 8 frames). Measured there:
+    /// the four leg methods render `molecule` in both modes and match the
+    /// CPU; until session 21 the transparent frames of `sphere`, `segment`
+    /// and `linear-taylor` ended in [`GpuError::LoopLimit`] (a step of up
+    /// to 72 field calls); BENCHMARKS.md "GPU", sessions 16, 17 and 21.
     ///
     /// # Errors
     /// [`GpuError::UnsupportedScene`] for the other scenes: the HRBF and
@@ -810,9 +811,11 @@ impl GpuTracer {
     /// ([`leg_spirv_path`]) on their scene kinds
     /// when the module lacks the `trace_pixels` entry point, or when the
     /// driver cannot compile the method's entry point;
-    /// [`GpuError::LoopLimit`] when a step of some pixel needs more loop
-    /// iterations than the driver runs per invocation (lavapipe on
-    /// `molecule`'s heavier frames); device errors.
+    /// [`GpuError::LoopLimit`] when the work between two checks of the
+    /// loop limit (a step, one iteration inside it, or a normal) of some
+    /// pixel needs more loop iterations than the driver runs per
+    /// invocation (none of the difftests' frames on lavapipe since session
+    /// 21); device errors.
     pub fn render(
         &self,
         scene: &GpuScene,

@@ -2,10 +2,10 @@
 //! standard scene with flat GPU data × every GPU method: `blobs` and
 //! `blobs-sum` at 32 × 32, `molecule` (500 Gaussian atoms) at 8 × 8. On
 //! lavapipe, whose llvmpipe ends every loop of 8 pixels after 65,535
-//! iterations per dispatch, some `molecule` frames need more in one step
-//! (normals resume root by root): there [`MOLECULE_ON_LAVAPIPE`] must render
-//! and match, the other `molecule` frames must match or end in
-//! `GpuError::LoopLimit` (BENCHMARKS.md "GPU", session 16).
+//! iterations per dispatch, every `molecule` frame of [`MOLECULE_ON_LAVAPIPE`]
+//! must render and match (steps, their inner bisections and normals resume
+//! across dispatches); any other `molecule` frame must match or end in
+//! `GpuError::LoopLimit` (BENCHMARKS.md "GPU", sessions 16 and 21).
 //!
 //! Same algorithm, same data, `f32` on both sides: hit/miss must agree on
 //! ≥ 99.9 % of pixels, depths within 1e-3 (relative) where both hit, step
@@ -47,13 +47,17 @@ const SCENES: [&[SceneCase]; 2] = [
 ];
 
 /// The `molecule` frames that fit lavapipe's loop limit: they must render
-/// and match the CPU there. Its other frames must match or end in
-/// [`GpuError::LoopLimit`] on a CPU adapter (BENCHMARKS.md "GPU", session
-/// 16), and match elsewhere.
-const MOLECULE_ON_LAVAPIPE: [(Method, Mode); 5] = [
+/// and match the CPU there — since session 21 (resumable inner loops of a
+/// step) every leg method in both modes. Any other frame must match or end
+/// in [`GpuError::LoopLimit`] on a CPU adapter (BENCHMARKS.md "GPU",
+/// sessions 16 and 21), and match elsewhere.
+const MOLECULE_ON_LAVAPIPE: [(Method, Mode); 8] = [
     (Method::Sphere, Mode::Opaque),
+    (Method::Sphere, Mode::Transparent),
     (Method::Segment, Mode::Opaque),
+    (Method::Segment, Mode::Transparent),
     (Method::LinearTaylor, Mode::Opaque),
+    (Method::LinearTaylor, Mode::Transparent),
     (Method::QuadraticTaylor, Mode::Opaque),
     (Method::QuadraticTaylor, Mode::Transparent),
 ];
