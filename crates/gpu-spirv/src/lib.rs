@@ -104,7 +104,6 @@ use boundtrace_gpu_kernel::{
 };
 pub use boundtrace_gpu_kernel::{MAX_GPU_ROOTS, SceneKind};
 use boundtrace_tracer::camera::Camera;
-
 use boundtrace_tracer::pixel::PixelSetup;
 use boundtrace_tracer::render::{Frame, Hit, Pixel, RenderError, RenderSettings};
 use boundtrace_tracer::scenes::{Scene, SceneField};
@@ -193,8 +192,9 @@ pub enum GpuError {
     /// checks of the loop limit — one tracing step, or one iteration of the
     /// interval halvings or the bisection inside a step
     /// (`boundtrace_tracer::march::Inner`), or one normal — needs more
-    /// loop iterations than the driver runs in one shader invocation (llvmpipe, lavapipe's compiler, ends every
-    /// loop of a group of 8 pixels after 65,535 iterations in all). A
+    /// loop iterations than the driver runs in one shader invocation
+    /// (llvmpipe, lavapipe's compiler, ends every loop of a group of 8
+    /// pixels after 65,535 iterations in all). A
     /// scene with fewer primitives, another method or mode, or another
     /// driver may trace it.
     LoopLimit {
@@ -241,8 +241,9 @@ impl fmt::Display for GpuError {
             GpuError::LoopLimit { pixels, shading } => write!(
                 f,
                 "gpu: {pixels} pixels ({shading} of them shading) made no progress in a \
-                 dispatch: one tracing step's part between two checks of the loop limit \
-                 (or one normal) of this scene needs more loop iterations than the driver allows in one shader invocation \
+                 dispatch: the work between two checks of the loop limit (a tracing step, \
+                 one iteration inside it, or one normal) of this scene needs more loop \
+                 iterations than the driver allows in one shader invocation \
                  (llvmpipe/lavapipe: 65,535 per 8 pixels); use fewer primitives, another \
                  method or mode, or another driver"
             ),
