@@ -58,9 +58,10 @@
 //! (BENCHMARKS.md "GPU").
 //!
 //! **Drivers.** Checked on lavapipe (CI) only. NVIDIA's Vulkan driver
-//! 580 (H100, session 12) runs the probes but crashes (SIGSEGV in its NVVM
-//! back end) compiling every tracing entry point; the cause is not yet
-//! found (BENCHMARKS.md "GPU", session 12). The host rewrites rust-gpu's
+//! 580 (H100, session 12; H200, session 22) runs the probes but crashes
+//! (SIGSEGV in its NVVM back end) compiling every tracing entry point; the
+//! cause is not yet found: not a stack overflow, not the phis of structs
+//! holding pointers alone (BENCHMARKS.md "GPU", sessions 12 and 22). The host rewrites rust-gpu's
 //! Vulkan memory model declaration to GLSL450 before the driver sees a
 //! module, since wgpu does not enable the `vulkanMemoryModel` feature.
 //!
