@@ -489,30 +489,38 @@ fn side<T: Real, N: FieldNum<T>>(f: &N, lo: T, hi: T) -> Side {
 }
 
 /// A sound answer for operands whose enclosure is unbounded (or NaN): no
-/// arithmetic on infinities (which gives NaN for `∞ − ∞`, `0·∞`).
-/// `G∩ ∈ [csg, csg + β/6]` since `b_r ≤ β` there; `G∪ ∈ [csg − D, csg]`
-/// with `D = b_max/6`, `b_max = β(1 − k(csg_lo − β/6))₊` (`D = β/6` when
-/// `csg_lo = −∞`: a forward bound's start stays finite and exact even when
-/// its enclosure is unbounded). Point types get `csg`.
+/// arithmetic that gives NaN for infinities (`∞ − ∞`, `0·∞`).
+/// `G∩ ∈ [csg, csg + β/6]` since `b_r ≤ β` there. For the union,
+/// `x = csg − d(s, β) ≥ csg − β/6`, so `b_r ≤ β(1 + kβ/6 − k·csg)₊` and
+/// `d(s, b_r) ≤ b_r/6`: with `c₁ = β/6·(1 + kβ/6)` and `c₂ = kβ/6`,
+/// `G∪ ∈ [min(csg, (1 + c₂)·csg − c₁), csg]`. With a finite lower end
+/// `lo` of `csg`, the constant `D = β/6·(1 − k(lo − β/6))₊` is the same
+/// bound taken at `lo`; without one the bound stays linear in `csg`, so a
+/// forward bound's start stays finite (and encloses the blend) even when
+/// its enclosure is unbounded. (`b_r` exceeds `β` where `x < 0`: the
+/// constant `β/6` is not a bound there.) Point types get `csg`.
 fn unbounded_fallback<T: Real, N: FieldNum<T>>(csg: N, union: bool, beta: T, r_o: T) -> N {
     let six = T::from_f64(6.0);
     if union {
         let lo = csg.enclosure().lo();
-        // Without a finite lower end, D ≤ β/6 (b ≤ β) still holds. A
-        // forward bound can have an unbounded enclosure (infinite
-        // coefficients) while its start is exact: returning `csg` there
-        // would drop the blend from the start enclosure.
-        let d_any = beta / six;
-        if lo.is_nan() || lo == T::NEG_INFINITY {
-            return csg.join(csg - d_any);
-        }
         let k = six / (six * r_o - beta);
-        let b_max = beta * (T::ONE - k * (lo - beta / six)).max(T::ZERO);
-        let d = b_max / six;
+        let linear = || {
+            // c₁, c₂ (and k) carry a few roundings: widened by 16 ε
+            // relative (an error of c₂ moves the bound by at most
+            // c₂·csg ≤ c₁ where the bound is active).
+            let widen = T::ONE + T::from_f64(16.0) * T::EPSILON;
+            let c2 = k * beta / six * widen;
+            let c1 = beta / six * (T::ONE + c2) * widen * widen;
+            csg.join(csg.min(csg * (T::ONE + c2) - c1))
+        };
+        if lo.is_nan() || lo == T::NEG_INFINITY {
+            return linear();
+        }
+        let d = beta * (T::ONE - k * (lo - beta / six)).max(T::ZERO) / six;
         if d.is_finite() {
             csg.join(csg - d)
         } else {
-            csg.join(csg - d_any)
+            linear()
         }
     } else {
         csg.join(csg + beta / six)
@@ -586,6 +594,32 @@ mod tests {
                 b.start()
             );
         }
+    }
+
+    #[test]
+    fn unbounded_union_operand_encloses_a_blend_above_beta_over_6() {
+        // Fuzz `field_bounds` (regressions/field_bounds/crash-c1be…): an
+        // operand with an unbounded forward enclosure and a start far
+        // inside (csg ≈ −2.13) has b_r ≈ 5β, so the blend exceeds β/6;
+        // the start was [csg − β/6, csg], above the true value.
+        use boundtrace_ia_core::Interval;
+        use boundtrace_inclusion::ForwardLinear;
+        let inf = f64::INFINITY;
+        let op = Operator::compact_union(0.33166003227233887, 0.5487979054450989).unwrap();
+        let (v0, v1) = (-2.129690021987417, -1.392_720_503_019_807);
+        let exact: f64 = op.eval(v0, v1);
+        assert!(
+            exact < v0 - 0.33166003227233887 / 6.0,
+            "the case needs a blend > β/6"
+        );
+        let f0 = ForwardLinear::from_parts(Interval::point(v0), -inf, 1.0, 0.5);
+        let f1 = ForwardLinear::from_parts(Interval::new(-1.4607, -1.3327), -1.0, 1.0, 0.5);
+        let b = op.eval(f0, f1);
+        assert!(b.start().contains(exact), "{exact} ∉ {:?}", b.start());
+        // The same with plain intervals whose lower ends are unbounded.
+        let i0 = Interval::new(-inf, v0);
+        let i1 = Interval::new(-inf, v1);
+        assert!(op.eval(i0, i1).contains(exact));
     }
 
     #[test]
