@@ -6,32 +6,10 @@
 # no OpPhi of structs holding pointers, spirv-opt folded; "phisplit": the
 # same without the folding)? Then frame times.
 set -u
-D=$PWD/target/device
-OUT=${OUT:-/tmp/out}
-mkdir -p "$OUT"
-C=/tmp/clog
-mkdir -p "$C"
-t0=$(date +%s)
-el() { echo $(($(date +%s) - t0)); }
-for v in spirv spirv-phifree spirv-phisplit; do
-    (cd "$D/$v" && for f in *.xz; do [ -e "$f" ] && xz -d -T0 "$f"; done)
-done
+. scripts/device/setup.sh
 ls -la "$D"/spirv*
-chmod +x "$D"/bin/*
-for f in .gl/*.deb; do dpkg -x "$f" /; done
-ldconfig
-if ! ldconfig -p | grep -q 'libvulkan.so.1 '; then
-    export LD_LIBRARY_PATH=$D/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
-    echo "using the carried libvulkan"
-fi
 export __GL_SHADER_DISK_CACHE_PATH=/tmp/nvcache __GL_SHADER_DISK_CACHE_SIZE=4000000000 __GL_SHADER_DISK_CACHE_SKIP_CLEANUP=1
 mkdir -p /tmp/nvcache
-if ! ls /usr/share/vulkan/icd.d/*nvidia* /etc/vulkan/icd.d/*nvidia* >/dev/null 2>&1; then
-    export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
-    echo "VK_DRIVER_FILES=$VK_DRIVER_FILES"
-fi
-export XDG_RUNTIME_DIR=/tmp/xdg-$(id -u)
-mkdir -p "$XDG_RUNTIME_DIR" && chmod 700 "$XDG_RUNTIME_DIR"
 {
     nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv
     ls /usr/share/vulkan/icd.d /etc/vulkan/icd.d /usr/local/nvidia/share/vulkan/icd.d 2>&1
@@ -40,7 +18,6 @@ mkdir -p "$XDG_RUNTIME_DIR" && chmod 700 "$XDG_RUNTIME_DIR"
     nproc
 } 2>&1 | tee "$OUT/env.txt"
 
-FT=$D/bin/gpu_frame_times
 # Is there an adapter at all? (the probes of the main module: fast)
 if ! CI=true BOUNDTRACE_GPU_SPV=$D/spirv/boundtrace-gpu-shader.spv timeout 60 "$D/bin/probe" --test-threads 1 interval >"$OUT/probe0.txt" 2>&1; then
     cat "$OUT/probe0.txt" | tail -20

@@ -23,7 +23,7 @@ here=scripts/device
 target=${CARGO_TARGET_DIR:-target}
 spv=${SPIRV_DIR:-$target/spirv}
 dst=target/device
-mkdir -p "$dst"/bin "$dst"/lib .gl
+mkdir -p "$dst"/bin .gl
 cargo build --release -p boundtrace-gpu --example gpu_frame_times
 cp "$target"/release/examples/gpu_frame_times "$dst"/bin/
 probe=$(cargo test --release -p boundtrace-gpu --test probe --no-run --message-format=json 2>/dev/null |

@@ -3,27 +3,12 @@
 # module (scripts/device/prepare.sh): without Int8, without OpCopyMemory,
 # both, spirv-opt -O / -Os, and all of that on the phi-free module.
 set -u
-D=$PWD/target/device
-OUT=${OUT:-/tmp/out}
-mkdir -p "$OUT"
-C=/tmp/clog
-mkdir -p "$C"
-t0=$(date +%s)
-el() { echo $(($(date +%s) - t0)); }
-for d in "$D"/var/*; do (cd "$d" && xz -d -T0 ./*.xz); done
-chmod +x "$D"/bin/*
-for f in .gl/*.deb; do dpkg -x "$f" /; done
-ldconfig
-export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
-export XDG_RUNTIME_DIR=/tmp/xdg-$(id -u)
-mkdir -p "$XDG_RUNTIME_DIR" && chmod 700 "$XDG_RUNTIME_DIR"
-FT=$D/bin/gpu_frame_times
+. scripts/device/setup.sh
 for v in orig noi8 nocopy noi8_nocopy O Os all; do
-    d=$v
     f="$C/v-$v.txt"
     (
         start=$(date +%s%N)
-        BOUNDTRACE_GPU_SPV=$D/var/$d/boundtrace-gpu-shader.spv __GL_SHADER_DISK_CACHE=0 \
+        BOUNDTRACE_GPU_SPV=$D/var/$v/boundtrace-gpu-shader.spv __GL_SHADER_DISK_CACHE=0 \
             timeout 160 "$FT" 64 1 compile-only methods=linear-taylor scenes=blobs-sum >"$f" 2>&1
         echo "rc=$? after $(( ($(date +%s%N) - start) / 1000000 )) ms" >>"$f"
     ) &
@@ -35,9 +20,8 @@ for f in "$C"/v-*.txt; do echo "$(basename "$f" .txt): $(grep -v '^adapter\|^|' 
 tar czf "$OUT/variant-logs.tgz" -C "$C" .
 for v in noi8 nocopy noi8_nocopy O Os all; do
     if grep -q '^rc=0' "$C/v-$v.txt"; then
-        d=$v
-        echo "== frame times with variant $v at $(el) s"
-        BOUNDTRACE_GPU_SPV=$D/var/$d/boundtrace-gpu-shader.spv timeout $((330 - $(el))) \
+            echo "== frame times with variant $v at $(el) s"
+        BOUNDTRACE_GPU_SPV=$D/var/$v/boundtrace-gpu-shader.spv timeout $((330 - $(el))) \
             "$FT" 1024 5 cpu methods=linear-taylor scenes=blobs-sum 2>"$OUT/ft.err" | tee "$OUT/ft.txt"
         tail -3 "$OUT/ft.err"
         break

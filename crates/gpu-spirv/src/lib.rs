@@ -61,9 +61,10 @@
 //! 580 (H100, session 12; H200, session 22) runs the probes but crashes
 //! (SIGSEGV in its NVVM back end) compiling every tracing entry point; the
 //! cause is not yet found: not a stack overflow, not the phis of structs
-//! holding pointers alone (BENCHMARKS.md "GPU", sessions 12 and 22). The host rewrites rust-gpu's
-//! Vulkan memory model declaration to GLSL450 before the driver sees a
-//! module, since wgpu does not enable the `vulkanMemoryModel` feature.
+//! holding pointers alone (BENCHMARKS.md "GPU", sessions 12 and 22). The
+//! host rewrites rust-gpu's Vulkan memory model declaration to GLSL450
+//! before the driver sees a module, since wgpu does not enable the
+//! `vulkanMemoryModel` feature.
 //!
 //! Limits: `f32` only; the per-pixel root buffer of transparent mode holds
 //! [`MAX_GPU_ROOTS`] roots (more is a [`GpuError::MaxRoots`]); scenes with
