@@ -219,6 +219,19 @@ impl<T: Real> Kernel<T> {
         })
     }
 
+    /// [`compact`](Self::compact) for parameters it accepts (a validated
+    /// primitive's), without building its error values (a GPU shader
+    /// cannot): the same kernel. A degree outside `[2, 64]` is clamped
+    /// into it; a `σ` that is not finite and `> 0` gives NaN values.
+    #[inline]
+    pub(crate) fn compact_trusted(n: u32, sigma: T) -> Self {
+        Self {
+            kind: KernelKind::Compact,
+            degree: n.clamp(2, MAX_DEGREE),
+            sigma,
+        }
+    }
+
     /// The Cauchy kernel (thesis eq. 1.8).
     ///
     /// # Errors

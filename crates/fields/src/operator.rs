@@ -150,7 +150,20 @@ impl OperatorKind {
 
     /// The kind with code `x`, if any.
     pub fn from_u32(x: u32) -> Option<Self> {
-        Self::ALL.get(x as usize).copied()
+        // A `match`, not an index into `ALL`: rust-gpu cannot take a
+        // slice of a constant array.
+        Some(match x {
+            0 => OperatorKind::Union,
+            1 => OperatorKind::Intersection,
+            2 => OperatorKind::Difference,
+            3 => OperatorKind::SmoothUnion,
+            4 => OperatorKind::SmoothIntersection,
+            5 => OperatorKind::SmoothDifference,
+            6 => OperatorKind::CompactUnion,
+            7 => OperatorKind::CompactIntersection,
+            8 => OperatorKind::CompactDifference,
+            _ => return None,
+        })
     }
 
     /// Whether the kind is one of the compact operators `G_op`.
@@ -428,19 +441,42 @@ impl<T: Real> Operator<T> {
         if d.len() < n {
             return None;
         }
-        if n == 0 {
-            return Some(Self::csg(kind));
-        }
-        let b = T::from_f64(f64::from(d[0]));
-        let r = T::from_f64(f64::from(d[1]));
+        let op = Self::decode_with(kind, |i| d[i]);
+        let ok = match kind {
+            OperatorKind::Union | OperatorKind::Intersection | OperatorKind::Difference => true,
+            OperatorKind::SmoothUnion
+            | OperatorKind::SmoothIntersection
+            | OperatorKind::SmoothDifference => Self::smooth(kind, op.beta).is_ok(),
+            _ => Self::compact(kind, op.beta, op.r_o).is_ok(),
+        };
+        ok.then_some(op)
+    }
+
+    /// [`read_params`](Self::read_params) without its checks, the `i`-th
+    /// parameter float given by `param(i)` (`i < kind.param_vec4s() * 4`):
+    /// for parameters that `read_params` accepted before (a validated
+    /// blobtree), the same operator bit for bit; the decoding of the
+    /// blobtree interpreters, on the CPU and in the GPU shader. Never
+    /// panics.
+    #[inline]
+    pub(crate) fn decode_with(kind: OperatorKind, param: impl Fn(usize) -> f32) -> Self {
+        let g = |i: usize| T::from_f64(f64::from(param(i)));
         match kind {
             OperatorKind::Union | OperatorKind::Intersection | OperatorKind::Difference => {
-                Some(Self::csg(kind))
+                Self::csg(kind)
             }
             OperatorKind::SmoothUnion
             | OperatorKind::SmoothIntersection
-            | OperatorKind::SmoothDifference => Self::smooth(kind, b).ok(),
-            _ => Self::compact(kind, b, r).ok(),
+            | OperatorKind::SmoothDifference => Self {
+                kind,
+                beta: g(0),
+                r_o: T::ZERO,
+            },
+            _ => Self {
+                kind,
+                beta: g(0),
+                r_o: g(1),
+            },
         }
     }
 }
@@ -565,6 +601,27 @@ fn compact<T: Real, N: FieldNum<T>>(f0: N, f1: N, union: bool, beta: T, r_o: T) 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn kinds_round_trip() {
+        for (i, k) in OperatorKind::ALL.iter().enumerate() {
+            assert_eq!(OperatorKind::from_u32(i as u32), Some(*k));
+            assert_eq!(*k as u32, i as u32);
+        }
+        assert_eq!(OperatorKind::from_u32(9), None);
+    }
+
+    #[test]
+    fn decoding_without_checks_equals_read_params() {
+        let d = [0.1f32, 0.25, 0.0, 0.0];
+        for k in OperatorKind::ALL {
+            let checked = Operator::<f64>::read_params(k, &d).unwrap();
+            assert_eq!(Operator::<f64>::decode_with(k, |i| d[i]), checked, "{k:?}");
+        }
+        // r_o too small for β: rejected by the checks, decoded without them.
+        let bad = [0.3f32, 0.1, 0.0, 0.0];
+        assert!(Operator::<f64>::read_params(OperatorKind::CompactUnion, &bad).is_none());
+    }
 
     #[test]
     fn unbounded_forward_operand_keeps_the_blend_in_the_start() {

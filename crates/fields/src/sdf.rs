@@ -101,7 +101,22 @@ impl PrimitiveKind {
 
     /// The kind with code `x`, if any.
     pub fn from_u32(x: u32) -> Option<Self> {
-        Self::ALL.get(x as usize).copied()
+        // A `match`, not an index into `ALL`: rust-gpu cannot take a
+        // slice of a constant array.
+        Some(match x {
+            0 => PrimitiveKind::Sphere,
+            1 => PrimitiveKind::Box,
+            2 => PrimitiveKind::RoundedBox,
+            3 => PrimitiveKind::Capsule,
+            4 => PrimitiveKind::Cylinder,
+            5 => PrimitiveKind::Torus,
+            6 => PrimitiveKind::Plane,
+            7 => PrimitiveKind::Cone,
+            8 => PrimitiveKind::Ellipsoid,
+            9 => PrimitiveKind::Gyroid,
+            10 => PrimitiveKind::Blob,
+            _ => return None,
+        })
     }
 }
 
@@ -469,15 +484,11 @@ impl<T: Real> Primitive<T> {
             return None;
         }
         let g = |i: usize| T::from_f64(f64::from(d[i]));
-        let rigid = Rigid::new_keep_unit([g(0), g(1), g(2), g(3)], [g(4), g(5), g(6)])?;
+        Rigid::new_keep_unit([g(0), g(1), g(2), g(3)], [g(4), g(5), g(6)])?;
+        let decoded = Self::decode_with(kind, |i| d[i]);
         let z = T::ZERO;
         let o = [z; 3];
-        let shape = if n > 8 {
-            [g(8), g(9), g(10), g(11)]
-        } else {
-            [z; 4]
-        };
-        let s = shape;
+        let s = decoded.shape;
         // Validate through the constructors (in the local frame), then keep
         // the stored transform and shape bit-for-bit.
         let ok = match kind {
@@ -503,7 +514,27 @@ impl<T: Real> Primitive<T> {
                     && Self::blob_with_degree(o, s[0], s[1], n.as_f64() as u32).is_ok()
             }
         };
-        ok.then_some(Self::make(kind, shape, rigid))
+        ok.then_some(decoded)
+    }
+
+    /// [`read_params`](Self::read_params) without its checks, the `i`-th
+    /// parameter float given by `param(i)` (`i < kind.param_vec4s() * 4`):
+    /// for parameters that `read_params` accepted before (a validated
+    /// blobtree), the same primitive bit for bit. This is the decoding the
+    /// blobtree interpreters run per evaluation, on the CPU and in the GPU
+    /// shader (which can neither build the checks' error values nor take
+    /// sub-slices of a buffer). Parameters `read_params` rejects give some
+    /// primitive (NaN values for NaN parameters), never a panic.
+    #[inline]
+    pub(crate) fn decode_with(kind: PrimitiveKind, param: impl Fn(usize) -> f32) -> Self {
+        let g = |i: usize| T::from_f64(f64::from(param(i)));
+        let rigid = Rigid::decode([g(0), g(1), g(2), g(3)], [g(4), g(5), g(6)]);
+        let shape = if kind.param_vec4s() > 2 {
+            [g(8), g(9), g(10), g(11)]
+        } else {
+            [T::ZERO; 4]
+        };
+        Self::make(kind, shape, rigid)
     }
 
     /// The field at the world-space point `p`, in any number type.
@@ -552,12 +583,10 @@ impl<T: Real> Primitive<T> {
             PrimitiveKind::Blob => {
                 let (big_r, iso, n) = (s[0], s[1], s[2]);
                 let d0 = blob_d0(big_r, iso, n);
-                let kernel = crate::kernel::Kernel::compact(n.as_f64() as u32, big_r);
-                let rho = match kernel {
-                    Ok(k) => k.eval_sq(q[0].sqr() + q[1].sqr() + q[2].sqr()),
-                    // Unreachable: validated at construction.
-                    Err(_) => N::constant(T::ZERO),
-                };
+                // Validated at construction: the checked constructor would
+                // accept these parameters.
+                let kernel = crate::kernel::Kernel::compact_trusted(n.as_f64() as u32, big_r);
+                let rho = kernel.eval_sq(q[0].sqr() + q[1].sqr() + q[2].sqr());
                 let e = rho.enclosure();
                 if e.hi() <= T::ZERO {
                     // Outside the support: g(0) = R.

@@ -89,17 +89,38 @@ impl<T: Real> Rigid<T> {
     /// read back from the `f32` array reproduce the same transform (the
     /// matrix is orthonormal for any non-zero quaternion, see `from_unit`).
     pub(crate) fn new_keep_unit(rotation_xyzw: [T; 4], translation: [T; 3]) -> Option<Self> {
-        let t = crate::error::finite3("translation", translation).ok()?;
+        crate::error::finite3("translation", translation).ok()?;
         if !rotation_xyzw.iter().all(|x| x.is_finite()) {
             return None;
         }
-        let n2 = dot4(rotation_xyzw, rotation_xyzw);
-        let q = if (n2 - T::ONE).abs() <= T::from_f64(9.5367431640625e-7) {
-            rotation_xyzw
+        if !Self::is_unit_to_rounding(rotation_xyzw) {
+            Self::normalize_quat(rotation_xyzw).ok()?;
+        }
+        Some(Self::decode(rotation_xyzw, translation))
+    }
+
+    /// Whether `|q|²` is within `2⁻²⁰` of 1 ([`new_keep_unit`](Self::new_keep_unit)
+    /// keeps such a quaternion bit-for-bit).
+    #[inline]
+    fn is_unit_to_rounding(q: [T; 4]) -> bool {
+        (dot4(q, q) - T::ONE).abs() <= T::from_f64(9.5367431640625e-7)
+    }
+
+    /// [`new_keep_unit`](Self::new_keep_unit) without its checks, for
+    /// parameters it accepted before (a validated blobtree, on the CPU or
+    /// in a GPU shader, which cannot build error values): the same
+    /// transform, bit for bit. Parameters it would reject give a
+    /// transform with NaN or infinite entries, never a panic.
+    #[inline]
+    pub(crate) fn decode(rotation_xyzw: [T; 4], translation: [T; 3]) -> Self {
+        let q = rotation_xyzw;
+        if Self::is_unit_to_rounding(q) {
+            Self::from_unit(q, translation)
         } else {
-            Self::normalize_quat(rotation_xyzw).ok()?
-        };
-        Some(Self::from_unit(q, t))
+            // `normalize_quat`'s arithmetic, without its error values.
+            let n = dot4(q, q).sqrt();
+            Self::from_unit([q[0] / n, q[1] / n, q[2] / n, q[3] / n], translation)
+        }
     }
 
     /// The rotation taking the local `z` axis to the direction of `axis`,

@@ -48,7 +48,6 @@ mod groups;
 
 pub use groups::FlatBlobGroups;
 
-#[cfg(not(target_arch = "spirv"))]
 use boundtrace_fields::blobtree::BlobtreeRef;
 use boundtrace_fields::{Blobs, PointBlob};
 use boundtrace_inclusion::{Field, Ray};
@@ -112,6 +111,8 @@ pub trait SceneKinds {
     const BLOBS: bool;
     /// Whether [`SceneKind::BlobGroups`] scenes are traced.
     const GROUPS: bool;
+    /// Whether [`SceneKind::Blobtree`] scenes are traced.
+    const BLOBTREE: bool;
 }
 
 /// Every scene kind ([`SceneKinds`]).
@@ -121,6 +122,29 @@ pub struct AllKinds;
 impl SceneKinds for AllKinds {
     const BLOBS: bool = true;
     const GROUPS: bool = true;
+    const BLOBTREE: bool = true;
+}
+
+/// The blob scenes, [`SceneKind::Blobs`] and [`SceneKind::BlobGroups`]
+/// ([`SceneKinds`]): the shader's `trace_sphere`.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct BlobKinds;
+
+impl SceneKinds for BlobKinds {
+    const BLOBS: bool = true;
+    const GROUPS: bool = true;
+    const BLOBTREE: bool = false;
+}
+
+/// [`SceneKind::Blobtree`] only ([`SceneKinds`]): the shader's
+/// `trace_sphere_blobtree`.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct BlobtreeOnly;
+
+impl SceneKinds for BlobtreeOnly {
+    const BLOBS: bool = false;
+    const GROUPS: bool = false;
+    const BLOBTREE: bool = true;
 }
 
 /// [`SceneKind::Blobs`] only ([`SceneKinds`]).
@@ -130,6 +154,7 @@ pub struct BlobsOnly;
 impl SceneKinds for BlobsOnly {
     const BLOBS: bool = true;
     const GROUPS: bool = false;
+    const BLOBTREE: bool = false;
 }
 
 /// [`SceneKind::BlobGroups`] only ([`SceneKinds`]).
@@ -139,6 +164,7 @@ pub struct GroupsOnly;
 impl SceneKinds for GroupsOnly {
     const BLOBS: bool = false;
     const GROUPS: bool = true;
+    const BLOBTREE: bool = false;
 }
 
 /// The frame's constants, as uploaded (plain `u32`/`f32` words, `#[repr(C)]`,
@@ -407,9 +433,12 @@ const fn unsupported() -> PixelOut {
 /// record. A `roots` too short gives [`Status::Unsupported`]; hit indices
 /// past the end of `hits` are not written.
 ///
-/// Bad constants or scene data (unknown codes, a blobtree that does not
-/// validate, bad group ends) give [`Status::Unsupported`] with nothing
-/// traced.
+/// Bad constants or scene data (unknown codes, a blobtree with an odd or
+/// zero word count, bad group ends) give [`Status::Unsupported`] with
+/// nothing traced. Blobtree data is not validated here (the shader cannot
+/// build `BlobtreeRef::new`'s errors): the host validates it before
+/// upload, and other invalid trees give NaN field values, never a read
+/// out of bounds.
 #[allow(clippy::too_many_arguments)]
 pub fn render_pixel(
     c: &Constants,
@@ -870,7 +899,28 @@ pub fn render_sphere_leg(
     leg: &mut PixelLeg,
     out: &mut PixelOut,
 ) {
-    render_leg::<_, AllKinds>(
+    render_sphere_leg_in::<AllKinds>(c, words, floats, blobs, x, y, roots, hits, base, leg, out);
+}
+
+/// [`render_sphere_leg`] for the scene kinds `K` only (other kinds give
+/// [`Status::Unsupported`] pixels): the shader's `trace_sphere`
+/// ([`BlobKinds`]) and `trace_sphere_blobtree` ([`BlobtreeOnly`]) entry
+/// points, so that neither holds the other's field code.
+#[allow(clippy::too_many_arguments)]
+pub fn render_sphere_leg_in<K: SceneKinds>(
+    c: &Constants,
+    words: &[u32],
+    floats: &[f32],
+    blobs: &[PointBlob<f32>],
+    x: u32,
+    y: u32,
+    roots: &mut [Root<f32>],
+    hits: &mut [HitOut],
+    base: usize,
+    leg: &mut PixelLeg,
+    out: &mut PixelOut,
+) {
+    render_leg::<_, K>(
         SphereTrace,
         c,
         words,
@@ -1079,13 +1129,21 @@ fn render_with<P: PixelKernel, K: SceneKinds>(
     }
     let setup = c.decode();
     match SceneKind::from_code(c.scene) {
-        // Blobtree decoding builds `FieldError` values (with `&'static str`
-        // messages), which rust-gpu 0.11 cannot compile: CPU only for now.
-        #[cfg(not(target_arch = "spirv"))]
-        Some(SceneKind::Blobtree) => match BlobtreeRef::new(words, floats) {
-            Ok(tree) => p.run(&tree, &setup, c.max_roots, x, y, roots, hits, base),
-            Err(_) => unsupported(),
-        },
+        // The host validates the tree (`BlobtreeRef::new`, whose error
+        // values the shader cannot build); here only the word count is
+        // checked, and other invalid data gives NaN values, never a read
+        // out of bounds.
+        Some(SceneKind::Blobtree) if K::BLOBTREE && (words.is_empty() || words.len() % 2 != 0) => {
+            unsupported()
+        }
+        Some(SceneKind::Blobtree) if K::BLOBTREE => {
+            let field = GlobalLipschitz {
+                field: BlobtreeRef::new_unchecked(words, floats),
+                lipschitz: c.lipschitz,
+            };
+            p.run(&field, &setup, c.max_roots, x, y, roots, hits, base)
+        }
+        Some(SceneKind::Blobtree) => unsupported(),
         Some(SceneKind::Blobs) if K::BLOBS && c.iso.is_finite() => {
             let field = GlobalLipschitz {
                 field: Blobs::new_unchecked(c.iso, blobs),
@@ -1103,11 +1161,6 @@ fn render_with<P: PixelKernel, K: SceneKinds>(
             }
         }
         Some(SceneKind::BlobGroups) => unsupported(),
-        #[cfg(target_arch = "spirv")]
-        Some(SceneKind::Blobtree) => {
-            let _ = floats;
-            unsupported()
-        }
         None => unsupported(),
     }
 }
@@ -1268,6 +1321,21 @@ mod tests {
     ];
 
     /// A 6 × 6 frame of `bounds` for `method` and `mode`.
+    /// A leg kernel's signature.
+    type LegFn = fn(
+        &Constants,
+        &[u32],
+        &[f32],
+        &[PointBlob<f32>],
+        u32,
+        u32,
+        &mut [Root<f32>],
+        &mut [HitOut],
+        usize,
+        &mut PixelLeg,
+        &mut PixelOut,
+    );
+
     fn six_by_six(bounds: [[f32; 3]; 2], method: Method, mode: Mode) -> PixelSetup<f32> {
         PixelSetup {
             camera: Camera::framing(bounds, [0.2, -0.3, -1.0], 40.0, 1.0).unwrap(),
@@ -1381,19 +1449,6 @@ mod tests {
             }
         }
         let (blobs, bounds) = two_blobs();
-        type LegFn = fn(
-            &Constants,
-            &[u32],
-            &[f32],
-            &[PointBlob<f32>],
-            u32,
-            u32,
-            &mut [Root<f32>],
-            &mut [HitOut],
-            usize,
-            &mut PixelLeg,
-            &mut PixelOut,
-        );
         let kernels: [(Method, LegFn); 4] = [
             (Method::Sphere, render_sphere_leg),
             (Method::Segment, render_segment_leg),
@@ -1589,19 +1644,6 @@ mod tests {
             t: 0.0,
             side: Side::Touch,
         };
-        type LegFn = fn(
-            &Constants,
-            &[u32],
-            &[f32],
-            &[PointBlob<f32>],
-            u32,
-            u32,
-            &mut [Root<f32>],
-            &mut [HitOut],
-            usize,
-            &mut PixelLeg,
-            &mut PixelOut,
-        );
         // Each method's kernel for every kind, blobs only, groups only.
         let kernels: [(Method, [LegFn; 3]); 3] = [
             (
@@ -1666,6 +1708,66 @@ mod tests {
     }
 
     #[test]
+    fn blobtree_sphere_legs_trace_as_on_the_cpu() {
+        use boundtrace_tracer::scenes::{DEFAULT_SEED, Scene, SceneField};
+        let scene = Scene::<f32>::build("aggregate-1", DEFAULT_SEED).unwrap();
+        let SceneField::Blobtree(tree) = scene.field() else {
+            panic!("aggregate-1 is a blobtree");
+        };
+        let t = tree.as_ref();
+        let r = Root {
+            t: 0.0,
+            side: Side::Touch,
+        };
+        let mut hit_pixels = 0;
+        for mode in [Mode::Opaque, Mode::Transparent] {
+            let setup = six_by_six(scene.bounds(), Method::Sphere, mode);
+            let c = Constants {
+                // The host's bound: the CPU field's own.
+                lipschitz: t.lipschitz_bound::<f32>().unwrap(),
+                ..Constants::new(&setup, SceneKind::Blobtree, 0.0, 4, 0)
+            };
+            for y in 0..6 {
+                for x in 0..6 {
+                    let run = |f: LegFn| {
+                        let (mut rs, mut hs) = ([r; 4], [HitOut::default(); 4]);
+                        let (mut leg, mut out) = (PixelLeg::default(), PixelOut::default());
+                        f(
+                            &c,
+                            t.nodes(),
+                            t.params(),
+                            &[],
+                            x,
+                            y,
+                            &mut rs,
+                            &mut hs,
+                            0,
+                            &mut leg,
+                            &mut out,
+                        );
+                        assert_eq!(leg.phase, PHASE_DONE);
+                        (out, hs)
+                    };
+                    let (gpu, hs) = run(render_sphere_leg_in::<BlobtreeOnly>);
+                    let mut rc = [r; 4];
+                    let cpu = trace_pixel_in(scene.field(), &setup, x, y, &mut rc, [0, 4]);
+                    assert_eq!(gpu.steps, cpu.trace.stats.steps, "({x}, {y}) {mode:?}");
+                    assert_eq!(gpu.status, cpu.trace.status as u32);
+                    assert_eq!(gpu.roots, cpu.trace.roots);
+                    for k in 0..gpu.roots as usize {
+                        assert_eq!(hs[k].t.to_bits(), rc[k].t.to_bits());
+                    }
+                    hit_pixels += usize::from(gpu.roots > 0);
+                    // `trace_sphere`'s kinds do not hold the blobtree.
+                    let (other, _) = run(render_sphere_leg_in::<BlobKinds>);
+                    assert_eq!(other.status, Status::Unsupported as u32);
+                }
+            }
+        }
+        assert!(hit_pixels >= 8, "{hit_pixels}");
+    }
+
+    #[test]
     fn bad_scene_data_is_unsupported() {
         let bounds = [[-1.0f32; 3], [1.0; 3]];
         let setup = PixelSetup {
@@ -1682,9 +1784,11 @@ mod tests {
             t: 0.0,
             side: Side::Touch,
         }; 1];
-        // A blobtree with an odd word count does not validate.
+        // A blobtree with an odd word count, or none.
         let c = Constants::new(&setup, SceneKind::Blobtree, 0.0, 1, 0);
         let out = render_pixel(&c, &[1, 2, 3], &[], &[], 1, 1, &mut roots, &mut hits, 0);
+        assert_eq!(out.status, Status::Unsupported as u32);
+        let out = render_pixel(&c, &[], &[], &[], 1, 1, &mut roots, &mut hits, 0);
         assert_eq!(out.status, Status::Unsupported as u32);
         // More groups than words.
         let c = Constants::new(&setup, SceneKind::BlobGroups, 0.5, 1, 3);

@@ -33,8 +33,6 @@ use boundtrace_fields::PointBlob;
 use boundtrace_gpu_kernel::render_pixel;
 #[allow(unused_imports)]
 use boundtrace_gpu_kernel as kernel;
-#[cfg(feature = "sphere")]
-use boundtrace_gpu_kernel::render_sphere_leg;
 use boundtrace_gpu_kernel::{Constants, HitOut, PixelLeg, PixelOut};
 use boundtrace_ia_core::{Interval, round};
 use boundtrace_tracer::Root;
@@ -217,7 +215,39 @@ pub fn trace_sphere(
         hits,
         roots,
         legs,
-        render_sphere_leg,
+        kernel::render_sphere_leg_in::<kernel::BlobKinds>,
+    );
+}
+
+/// [`trace_sphere`] for `SceneKind::Blobtree` scenes (the flat blobtree of
+/// the `aggregate-*` scenes, `render_sphere_leg_in::<BlobtreeOnly>`),
+/// feature `sphere-blobtree`: a module of its own (beside `trace_sphere`,
+/// spirv-opt runs out of SPIR-V ids).
+#[cfg(feature = "sphere-blobtree")]
+#[allow(clippy::too_many_arguments)]
+#[spirv(compute(threads(8, 8)))]
+pub fn trace_sphere_blobtree(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] constants: &Constants,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] words: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] floats: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] blobs: &[PointBlob<f32>],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] pixels: &mut [PixelOut],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] hits: &mut [HitOut],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] roots: &mut [Root<f32>],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] legs: &mut [PixelLeg],
+) {
+    leg_entry(
+        id,
+        constants,
+        words,
+        floats,
+        blobs,
+        pixels,
+        hits,
+        roots,
+        legs,
+        kernel::render_sphere_leg_in::<kernel::BlobtreeOnly>,
     );
 }
 
@@ -305,6 +335,7 @@ leg_entry_point!(
 /// pointer), its leg and record written back.
 #[cfg(any(
     feature = "sphere",
+    feature = "sphere-blobtree",
     feature = "segment-blobs",
     feature = "segment-groups",
     feature = "linear-taylor-blobs",

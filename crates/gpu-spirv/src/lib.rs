@@ -340,8 +340,9 @@ impl GpuScene {
     ///
     /// # Errors
     /// [`GpuError::UnsupportedScene`] for the other scenes: the HRBF and
-    /// SCALIS scenes (no flat field yet), the blobtrees (their decoding
-    /// does not compile with rust-gpu 0.11).
+    /// SCALIS scenes (no flat field yet), the blobtrees (their entry point
+    /// compiles, but its build needs about 23 GB of memory, so the build
+    /// script does not build it yet).
     pub fn from_scene(scene: &Scene<f32>) -> Result<Self, GpuError> {
         let bounds = scene.bounds();
         let unsupported = |why: &str| {
@@ -383,8 +384,10 @@ impl GpuScene {
             }
             SceneField::Blobtree(_) => {
                 return unsupported(
-                    "blobtree decoding builds `FieldError` values (`&'static str` \
-                     messages), which rust-gpu 0.11 cannot compile",
+                    "the blobtree entry point (`trace_sphere_blobtree`, shader feature \
+                     `sphere-blobtree`) is not built by the build script yet: its \
+                     rust-gpu build peaks at 23 GB of memory (BENCHMARKS.md \"GPU\", \
+                     session 23)",
                 );
             }
             SceneField::Molecule(m) => {

@@ -346,6 +346,38 @@ impl<'a> BlobtreeRef<'a> {
         })
     }
 
+    /// Borrows flat data **without validating it**, for data that
+    /// [`BlobtreeRef::new`] accepted before: a GPU shader gets the
+    /// buffers its host validated, and cannot build the error values of
+    /// `new`. Evaluation decodes every node without the constructors'
+    /// checks (as it does for validated data), so on data `new` would
+    /// reject it never panics and never reads out of bounds, but its
+    /// values are unspecified (NaN where a node does not decode or the
+    /// stack would overflow). [`stack_need`](Self::stack_need) reports
+    /// [`STACK_CAPACITY`].
+    ///
+    /// ```
+    /// use boundtrace_fields::blobtree::{BlobtreeRef, FlatBlobtree, Node};
+    /// use boundtrace_fields::Primitive;
+    /// use boundtrace_inclusion::Field;
+    /// let s = Node::primitive(Primitive::sphere([0.0, 0.0, 0.0], 0.5).unwrap());
+    /// let tree = FlatBlobtree::from_node(&s)?;
+    /// let t = tree.as_ref();
+    /// let u = BlobtreeRef::new_unchecked(t.nodes(), t.params());
+    /// assert_eq!(u.eval([1.0f32, 0.0, 0.0]), t.eval([1.0f32, 0.0, 0.0]));
+    /// // Garbage in, NaN out: no panic.
+    /// assert!(BlobtreeRef::new_unchecked(&[7, 7, 7], &[]).eval([0.0f32; 3]).is_nan());
+    /// # Ok::<(), boundtrace_fields::FieldError>(())
+    /// ```
+    #[inline]
+    pub fn new_unchecked(nodes: &'a [u32], params: &'a [f32]) -> Self {
+        Self {
+            nodes,
+            params,
+            stack_need: STACK_CAPACITY as u32,
+        }
+    }
+
     /// Data that [`BlobtreeRef::new`] accepted before (owned, immutable
     /// storage of [`FlatBlobtree`](super::FlatBlobtree)).
     #[cfg(feature = "alloc")]

@@ -1,11 +1,11 @@
 //! Node-level interpreters (paper Alg. 1) and the full-tree, sparse and
 //! Lipschitz evaluations of a [`BlobtreeRef`].
 
-use super::encoding::{BlobtreeRef, NodeWord, STACK_CAPACITY, param_slice};
+use super::encoding::{BlobtreeRef, NodeWord, STACK_CAPACITY};
 use super::traversal::{SparseVisitor, TRAVERSAL_STACK, sparse_traverse};
 use crate::FieldError;
-use crate::operator::Operator;
-use crate::sdf::Primitive;
+use crate::operator::{Operator, OperatorKind};
+use crate::sdf::{Primitive, PrimitiveKind};
 use boundtrace_ia_core::Real;
 use boundtrace_inclusion::{Field, FieldNum};
 
@@ -17,81 +17,126 @@ pub(crate) fn corrupt<T: Real, N: FieldNum<T>>() -> N {
     N::constant(T::nan())
 }
 
-/// `PRIMITIVE(nodeop, D, p)` of Alg. 1: decodes `D` for the node's kind
-/// and evaluates it at `p`.
+/// A post-order program as the interpreters read it: node words and
+/// parameter floats by index, without slices or `Option`s of them (the
+/// GPU shader can build neither), out-of-range reads answered with NaN
+/// rather than a panic. The full tree ([`BlobtreeRef`]) and the pruned
+/// views are programs.
+pub(crate) trait Program {
+    /// The number of nodes.
+    fn node_count(&self) -> usize;
+    /// The node word of node `i` (`None` out of range).
+    fn node_word(&self, i: usize) -> Option<NodeWord>;
+    /// Parameter float `k` of node `i` (NaN out of range).
+    fn param(&self, i: usize, k: usize) -> f32;
+}
+
+/// `PRIMITIVE(nodeop, D, p)` of Alg. 1: decodes node `i` of `prog` (a
+/// leaf, word `w`) and evaluates it at `p`.
 #[inline]
-pub(crate) fn primitive_node<T: Real, N: FieldNum<T>>(
+pub(crate) fn primitive_node<T: Real, N: FieldNum<T>, P: Program>(
+    prog: &P,
+    i: usize,
     w: NodeWord,
-    d: Option<&[f32]>,
     p: [N; 3],
 ) -> N {
-    match (w.primitive_kind(), d) {
-        (Some(kind), Some(d)) => match Primitive::<T>::read_params(kind, d) {
-            Some(prim) => prim.eval(p),
-            None => corrupt(),
-        },
-        _ => corrupt(),
+    match w.primitive_kind() {
+        Some(kind) => eval_primitive::<T, N>(kind, node_floats(prog, i), p),
+        None => corrupt(),
     }
 }
 
-/// `OPERATOR(nodeop, D, f₀, f₁)` of Alg. 1.
+/// `OPERATOR(nodeop, D, f₀, f₁)` of Alg. 1 for node `i` of `prog` (word
+/// `w`).
 #[inline]
-pub(crate) fn operator_node<T: Real, N: FieldNum<T>>(
+pub(crate) fn operator_node<T: Real, N: FieldNum<T>, P: Program>(
+    prog: &P,
+    i: usize,
     w: NodeWord,
-    d: Option<&[f32]>,
     f0: N,
     f1: N,
 ) -> N {
-    match (w.operator_kind(), d) {
-        (Some(kind), Some(d)) => match Operator::<T>::read_params(kind, d) {
-            Some(op) => op.eval(f0, f1),
-            None => corrupt(),
-        },
-        _ => corrupt(),
+    match w.operator_kind() {
+        Some(kind) => eval_operator::<T, N>(kind, prog.param(i, 0), prog.param(i, 1), f0, f1),
+        None => corrupt(),
     }
 }
 
-/// The number of 128-bit parameter slots of node word `w`.
+/// The parameter floats a node can have (3 slots of 4), NaN beyond the
+/// node's own.
 #[inline]
-pub(crate) fn node_vec4s(w: NodeWord) -> Option<u32> {
-    if w.is_leaf() {
-        Some(w.primitive_kind()?.param_vec4s())
+fn node_floats<P: Program>(prog: &P, i: usize) -> [f32; 12] {
+    let mut d = [f32::NAN; 12];
+    let mut k = 0;
+    while k < 12 {
+        d[k] = prog.param(i, k);
+        k += 1;
+    }
+    d
+}
+
+/// A primitive of `kind` decoded from its parameter floats `d` and
+/// evaluated at `p`. Arguments by value and, in the GPU shader, not
+/// inlined: the interpreter's nodes then share one copy of every
+/// primitive's code per number type (inlined at each evaluation of the
+/// tracer, the blobtree shader does not fit spirv-opt's id space).
+#[cfg_attr(target_arch = "spirv", inline(never))]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
+fn eval_primitive<T: Real, N: FieldNum<T>>(kind: PrimitiveKind, d: [f32; 12], p: [N; 3]) -> N {
+    Primitive::<T>::decode_with(kind, |k| d[k]).eval(p)
+}
+
+/// An operator of `kind` with parameters `b`, `r` (its first two floats)
+/// applied to `f0`, `f1`; not inlined in the GPU shader, as
+/// [`eval_primitive`].
+#[cfg_attr(target_arch = "spirv", inline(never))]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
+fn eval_operator<T: Real, N: FieldNum<T>>(kind: OperatorKind, b: f32, r: f32, f0: N, f1: N) -> N {
+    Operator::<T>::decode_with(kind, |k| if k == 0 { b } else { r }).eval(f0, f1)
+}
+
+/// Parameter float `k` of the node at `offset` (128-bit units) in
+/// `params`, NaN out of range.
+#[inline]
+pub(crate) fn param_at(params: &[f32], offset: u32, k: usize) -> f32 {
+    // No `checked_mul` (rust-gpu lacks it): `offset ≤ len / 4` keeps
+    // `4·offset + k` far from overflow (`k` < 16 for every node kind).
+    let off = offset as usize;
+    if off > params.len() / 4 || k >= 16 {
+        return f32::NAN;
+    }
+    let at = 4 * off + k;
+    if at < params.len() {
+        params[at]
     } else {
-        Some(w.operator_kind()?.param_vec4s())
+        f32::NAN
     }
 }
 
-/// The parameter slice of node word `w` at `offset` (128-bit units) in
-/// `params`.
-#[inline]
-pub(crate) fn node_data(params: &[f32], w: NodeWord, offset: u32) -> Option<&[f32]> {
-    param_slice(params, offset, node_vec4s(w)?)
-}
-
-/// Alg. 1 over a post-order program of `len` nodes whose node words and
-/// parameter slices are given by `node(i)`, with a fixed stack of `S`
-/// entries: the interpreter shared by the full tree and the pruned views.
-/// A node that does not decode or a stack overflow gives [`corrupt`]
+/// Alg. 1 over the post-order program `prog` with a fixed stack of `S`
+/// entries: the interpreter shared by the full tree and the pruned views,
+/// on the CPU and in the GPU shader. Nodes are decoded without the
+/// constructors' checks (the program was validated when it was built); a
+/// node word that does not decode or a stack overflow gives [`corrupt`]
 /// (validated data never does).
 #[inline]
-pub(crate) fn eval_program<'d, T: Real, N: FieldNum<T>, const S: usize>(
-    len: usize,
+pub(crate) fn eval_program<T: Real, N: FieldNum<T>, P: Program, const S: usize>(
+    prog: &P,
     p: [N; 3],
-    node: impl Fn(usize) -> Option<(NodeWord, Option<&'d [f32]>)>,
 ) -> N {
     let mut stack = [N::constant(T::ZERO); S];
     let mut sp = 0usize;
     let mut i = 0usize;
+    let len = prog.node_count();
     while i < len {
-        let Some((w, d)) = node(i) else {
+        let Some(w) = prog.node_word(i) else {
             return corrupt();
         };
         if w.is_leaf() {
-            let v = primitive_node::<T, N>(w, d, p);
-            match stack.get_mut(sp) {
-                Some(slot) => *slot = v,
-                None => return corrupt(),
+            if sp >= S {
+                return corrupt();
             }
+            stack[sp] = primitive_node::<T, N, P>(prog, i, w, p);
             sp += 1;
         } else {
             if sp < 2 {
@@ -100,7 +145,7 @@ pub(crate) fn eval_program<'d, T: Real, N: FieldNum<T>, const S: usize>(
             let f1 = stack[sp - 1];
             let f0 = stack[sp - 2];
             sp -= 1;
-            stack[sp - 1] = operator_node::<T, N>(w, d, f0, f1);
+            stack[sp - 1] = operator_node::<T, N, P>(prog, i, w, f0, f1);
         }
         i += 1;
     }
@@ -108,24 +153,24 @@ pub(crate) fn eval_program<'d, T: Real, N: FieldNum<T>, const S: usize>(
 }
 
 /// `max(L₀, L₁) · factor` per operator, `L_prim` per primitive: a bound of
-/// the Lipschitz constant of a post-order program whose node words and
-/// parameter slices are given by `node(i)`, `i < len`. `None` when the
-/// stack would overflow `S` or a node does not decode.
-pub(crate) fn lipschitz_program<'d, T: Real, const S: usize>(
-    len: usize,
-    node: impl Fn(usize) -> Option<(NodeWord, &'d [f32])>,
-) -> Option<T> {
+/// the Lipschitz constant of the post-order program `prog`. `None` when
+/// the stack would overflow `S` or a node does not decode.
+pub(crate) fn lipschitz_program<T: Real, P: Program, const S: usize>(prog: &P) -> Option<T> {
     let mut stack = [T::ZERO; S];
     let mut sp = 0usize;
     let mut i = 0usize;
+    let len = prog.node_count();
     while i < len {
-        let (w, d) = node(i)?;
+        let w = prog.node_word(i)?;
         if w.is_leaf() {
-            let prim = Primitive::<T>::read_params(w.primitive_kind()?, d)?;
-            *stack.get_mut(sp)? = prim.lipschitz();
+            let prim = Primitive::<T>::decode_with(w.primitive_kind()?, |k| prog.param(i, k));
+            if sp >= S {
+                return None;
+            }
+            stack[sp] = prim.lipschitz();
             sp += 1;
         } else {
-            let op = Operator::<T>::read_params(w.operator_kind()?, d)?;
+            let op = Operator::<T>::decode_with(w.operator_kind()?, |k| prog.param(i, k));
             if sp < 2 {
                 return None;
             }
@@ -138,18 +183,38 @@ pub(crate) fn lipschitz_program<'d, T: Real, const S: usize>(
     if sp == 1 { Some(stack[0]) } else { None }
 }
 
+impl Program for BlobtreeRef<'_> {
+    #[inline]
+    fn node_count(&self) -> usize {
+        self.len()
+    }
+    #[inline]
+    fn node_word(&self, i: usize) -> Option<NodeWord> {
+        let nodes = self.nodes();
+        if 2 * i < nodes.len() {
+            Some(NodeWord(nodes[2 * i]))
+        } else {
+            None
+        }
+    }
+    #[inline]
+    fn param(&self, i: usize, k: usize) -> f32 {
+        let nodes = self.nodes();
+        if 2 * i + 1 < nodes.len() {
+            param_at(self.params(), nodes[2 * i + 1], k)
+        } else {
+            f32::NAN
+        }
+    }
+}
+
 impl<'a> BlobtreeRef<'a> {
     /// The full-tree field at `p` (Alg. 1 over every node in post-order,
     /// fixed stack of [`STACK_CAPACITY`]); the same as
     /// [`Field::eval`].
     #[inline]
     pub fn eval_full<T: Real, N: FieldNum<T>>(&self, p: [N; 3]) -> N {
-        let nodes = self.nodes();
-        let params = self.params();
-        eval_program::<T, N, STACK_CAPACITY>(self.len(), p, |i| {
-            let w = NodeWord(*nodes.get(2 * i)?);
-            Some((w, node_data(params, w, *nodes.get(2 * i + 1)?)))
-        })
+        eval_program::<T, N, Self, STACK_CAPACITY>(self, p)
     }
 
     /// The local field `f_𝒜` at `p` by a direct sparse traversal (paper
@@ -194,13 +259,7 @@ impl<'a> BlobtreeRef<'a> {
     /// compact operators compress the field, paper §7 traces with 1.45).
     /// `None` only for data validation excludes.
     pub fn lipschitz_bound<T: Real>(&self) -> Option<T> {
-        let nodes = self.nodes();
-        let params = self.params();
-        lipschitz_program::<T, STACK_CAPACITY>(self.len(), |i| {
-            let w = NodeWord(*nodes.get(2 * i)?);
-            let d = node_data(params, w, *nodes.get(2 * i + 1)?)?;
-            Some((w, d))
-        })
+        lipschitz_program::<T, Self, STACK_CAPACITY>(self)
     }
 }
 
@@ -226,7 +285,7 @@ impl<T: Real, N: FieldNum<T>> SparseVisitor for SparseEval<'_, T, N> {
     #[inline]
     fn primitive(&mut self, node: u32) -> Result<(), FieldError> {
         let w = self.tree.word(node).ok_or(UNBALANCED)?;
-        let v = primitive_node::<T, N>(w, self.tree.node_params(node), self.p);
+        let v = primitive_node::<T, N, _>(&self.tree, node as usize, w, self.p);
         *self.stack.get_mut(self.sp).ok_or(OVERFLOW)? = v;
         self.sp += 1;
         Ok(())
@@ -241,7 +300,7 @@ impl<T: Real, N: FieldNum<T>> SparseVisitor for SparseEval<'_, T, N> {
         let f1 = self.stack[self.sp - 1];
         let f0 = self.stack[self.sp - 2];
         self.sp -= 1;
-        self.stack[self.sp - 1] = operator_node::<T, N>(w, self.tree.node_params(node), f0, f1);
+        self.stack[self.sp - 1] = operator_node::<T, N, _>(&self.tree, node as usize, w, f0, f1);
         Ok(())
     }
 

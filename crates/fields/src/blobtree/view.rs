@@ -1,7 +1,7 @@
 //! Pruned tree views (paper §6.2, Fig. 11, Alg. 4).
 
 use super::encoding::{BlobtreeRef, NodeWord};
-use super::eval::{eval_program, lipschitz_program, node_data, node_vec4s};
+use super::eval::{Program, eval_program, lipschitz_program, param_at};
 use super::traversal::{SparseVisitor, sparse_traverse};
 use crate::FieldError;
 use boundtrace_ia_core::Real;
@@ -227,19 +227,6 @@ impl<'a, const V: usize, const D: usize, const S: usize> PrunedView<'a, V, D, S>
         self.stack_need as usize
     }
 
-    #[inline]
-    fn data(&self, i: usize) -> Option<(NodeWord, &[f32])> {
-        let w = NodeWord(*self.view.get(i)?);
-        let off = *self.offset.get(i)?;
-        let d = if off & GLOBAL != 0 {
-            node_data(self.tree.params(), w, off & !GLOBAL)?
-        } else {
-            let n = node_vec4s(w)? as usize * 4;
-            self.cache.get(off as usize..off as usize + n)?
-        };
-        Some((w, d))
-    }
-
     /// A Lipschitz bound of the pruned field (as
     /// [`BlobtreeRef::lipschitz_bound`], over the view's nodes; `0` for a
     /// missing root).
@@ -247,7 +234,7 @@ impl<'a, const V: usize, const D: usize, const S: usize> PrunedView<'a, V, D, S>
         if self.len == 0 {
             return Some(T::ZERO);
         }
-        lipschitz_program::<T, S>(self.len as usize, |i| self.data(i))
+        lipschitz_program::<T, Self, S>(self)
     }
 }
 
@@ -257,13 +244,34 @@ impl<T: Real, const V: usize, const D: usize, const S: usize> Field<T> for Prune
         if self.len == 0 {
             return N::constant(T::INFINITY);
         }
-        eval_program::<T, N, S>(self.len as usize, p, |i| {
-            self.data(i).map(|(w, d)| (w, Some(d)))
-        })
+        eval_program::<T, N, Self, S>(self, p)
     }
 
     fn lipschitz(&self) -> Option<T> {
         self.lipschitz_bound()
+    }
+}
+
+impl<const V: usize, const D: usize, const S: usize> Program for PrunedView<'_, V, D, S> {
+    #[inline]
+    fn node_count(&self) -> usize {
+        self.len as usize
+    }
+    #[inline]
+    fn node_word(&self, i: usize) -> Option<NodeWord> {
+        self.view.get(i).map(|&w| NodeWord(w))
+    }
+    #[inline]
+    fn param(&self, i: usize, k: usize) -> f32 {
+        match self.offset.get(i) {
+            Some(&off) if off & GLOBAL != 0 => param_at(self.tree.params(), off & !GLOBAL, k),
+            Some(&off) => self
+                .cache
+                .get(off as usize + k)
+                .copied()
+                .unwrap_or(f32::NAN),
+            None => f32::NAN,
+        }
     }
 }
 
