@@ -12,6 +12,7 @@
 #     ${CARGO_TARGET_DIR:-target}/spirv/boundtrace-gpu-shader-segment-groups.spv  (segment tracing, `BlobGroups` scenes)
 #     …-linear-taylor-blobs.spv, …-linear-taylor-groups.spv,
 #     …-quadratic-taylor-blobs.spv, …-quadratic-taylor-groups.spv (forward Taylor methods)
+#     …-sphere-blobtree.spv                                                      (sphere tracing, `Blobtree` scenes)
 #
 # (boundtrace-gpu also honours BOUNDTRACE_GPU_SPV=/path/to/module.spv, and
 # looks for the other modules beside it). With BOUNDTRACE_SHADER_FEATURES
@@ -51,4 +52,9 @@ if [ -z "${BOUNDTRACE_SHADER_FEATURES:-}" ]; then
                     "${out%.spv}-$method-$kind.spv" "$target/spirv-shader")
         done
     done
+    echo "==> compiling the sphere module for blobtrees"
+    (cd crates/gpu-builder &&
+        BOUNDTRACE_SHADER_FEATURES=sphere-blobtree CARGO_TARGET_DIR="$target/spirv-builder" \
+            cargo +"$toolchain" run --release --locked -q -- \
+            "${out%.spv}-sphere-blobtree.spv" "$target/spirv-shader")
 fi

@@ -7,7 +7,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-step() { printf '\n==> %s\n' "$*"; }
+# Each step with the wall-clock time and the seconds since the start.
+step() { printf '\n==> %s [%s, %d s]\n' "$*" "$(date -u +%H:%M:%S)" "$SECONDS"; }
 
 step "toolchain: rustfmt, clippy, thumbv7em-none-eabihf (no_std check)"
 rustup component add rustfmt clippy >/dev/null

@@ -2,7 +2,7 @@
 # Prepares target/device for a run on a lent NVIDIA machine (the `device`
 # tool; BENCHMARKS.md "GPU", session 22): the host binaries
 # (gpu_frame_times, the probe test), Debian's Vulkan loader and the glvnd
-# libraries (.gl/, unpacked there by the run scripts), the seven modules of
+# libraries (.gl/, unpacked there by the run scripts), the modules of
 # scripts/build-spirv.sh (xz-compressed: they travel in a 64 MiB tree), and
 # compile-test variants of the modules made with spirv-tools (apt-get
 # install spirv-tools) and the Python tools beside this script:

@@ -87,5 +87,5 @@ pub(crate) fn zero_like<T: boundtrace_ia_core::Real, N: boundtrace_inclusion::Fi
 pub use error::FieldError;
 pub use kernel::{Kernel, KernelKind};
 pub use operator::{Operator, OperatorClass, OperatorKind};
-pub use sdf::{Primitive, PrimitiveKind};
+pub use sdf::{AlgebraicPrimitives, AllPrimitives, Primitive, PrimitiveKind, PrimitiveKinds};
 pub use transform::Rigid;

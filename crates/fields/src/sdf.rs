@@ -120,6 +120,46 @@ impl PrimitiveKind {
     }
 }
 
+/// A set of [`PrimitiveKind`]s, as a type ([`Primitive::eval_among`]):
+/// every kind but the two whose evaluation needs transcendental functions
+/// (and so the most code in a GPU shader) is always in.
+pub trait PrimitiveKinds {
+    /// Whether [`PrimitiveKind::Gyroid`] (sines and cosines) is in.
+    const GYROID: bool;
+    /// Whether [`PrimitiveKind::Blob`] (a power of the kernel) is in.
+    const BLOB: bool;
+
+    /// Whether `kind` is in the set.
+    fn contains(kind: PrimitiveKind) -> bool {
+        match kind {
+            PrimitiveKind::Gyroid => Self::GYROID,
+            PrimitiveKind::Blob => Self::BLOB,
+            _ => true,
+        }
+    }
+}
+
+/// Every [`PrimitiveKind`] ([`PrimitiveKinds`]).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct AllPrimitives;
+
+impl PrimitiveKinds for AllPrimitives {
+    const GYROID: bool = true;
+    const BLOB: bool = true;
+}
+
+/// The [`PrimitiveKind`]s evaluated with `+ − × ÷`, square roots, `min`
+/// and `max` alone: all but [`PrimitiveKind::Gyroid`] and
+/// [`PrimitiveKind::Blob`] ([`PrimitiveKinds`]; the GPU shader's blobtree
+/// entry point).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct AlgebraicPrimitives;
+
+impl PrimitiveKinds for AlgebraicPrimitives {
+    const GYROID: bool = false;
+    const BLOB: bool = false;
+}
+
 /// An A-SDF primitive: a [`PrimitiveKind`], its shape parameters in the
 /// local frame and its [`Rigid`] transform.
 ///
@@ -540,9 +580,21 @@ impl<T: Real> Primitive<T> {
     /// The field at the world-space point `p`, in any number type.
     #[inline]
     pub fn eval<N: FieldNum<T>>(&self, p: [N; 3]) -> N {
+        self.eval_among::<N, AllPrimitives>(p)
+    }
+
+    /// [`eval`](Self::eval) compiled for the kinds of `K` only: a
+    /// primitive of another kind evaluates to NaN. The kinds left out are
+    /// not even compiled (`K`'s flags are constants, so their branches are
+    /// dropped when the code is instantiated): a GPU shader for scenes
+    /// without them is smaller.
+    #[inline]
+    pub fn eval_among<N: FieldNum<T>, K: PrimitiveKinds>(&self, p: [N; 3]) -> N {
         let q = self.rigid.to_local(p);
         let s = self.shape;
         match self.kind {
+            PrimitiveKind::Gyroid if !K::GYROID => N::constant(T::nan()),
+            PrimitiveKind::Blob if !K::BLOB => N::constant(T::nan()),
             PrimitiveKind::Sphere => length3(q) - s[0],
             PrimitiveKind::Box => {
                 box_sdf([q[0].abs() - s[0], q[1].abs() - s[1], q[2].abs() - s[2]])

@@ -48,7 +48,8 @@ mod groups;
 
 pub use groups::FlatBlobGroups;
 
-use boundtrace_fields::blobtree::BlobtreeRef;
+use boundtrace_fields::AlgebraicPrimitives;
+use boundtrace_fields::blobtree::{BlobtreeAmong, BlobtreeRef};
 use boundtrace_fields::{Blobs, PointBlob};
 use boundtrace_inclusion::{Field, Ray};
 #[cfg(test)]
@@ -1137,8 +1138,12 @@ fn render_with<P: PixelKernel, K: SceneKinds>(
             unsupported()
         }
         Some(SceneKind::Blobtree) if K::BLOBTREE => {
+            // Gyroids and blobs left out: their transcendental functions
+            // would double the shader (the host checks the tree has none).
             let field = GlobalLipschitz {
-                field: BlobtreeRef::new_unchecked(words, floats),
+                field: BlobtreeAmong::<AlgebraicPrimitives>::new(BlobtreeRef::new_unchecked(
+                    words, floats,
+                )),
                 lipschitz: c.lipschitz,
             };
             p.run(&field, &setup, c.max_roots, x, y, roots, hits, base)

@@ -12,9 +12,12 @@
 //!   square-root bounds on the GPU), always built;
 //! - `transcendental_ops`, `pow_ops` and `trig_ops`: `ia-core`'s `exp`,
 //!   `ln`, `pow`, `sin` and `cos` interval bounds on the GPU, always built;
-//! - `trace_sphere`: sphere tracing in resumable legs
-//!   (`render_sphere_leg`), feature `sphere` (default): a driver that
-//!   inlines every call (lavapipe) compiles it;
+//! - `trace_sphere`: sphere tracing of the blob scenes in resumable legs
+//!   (`render_sphere_leg_in::<BlobKinds>`), feature `sphere` (default): a
+//!   driver that inlines every call (lavapipe) compiles it;
+//! - `trace_sphere_blobtree`: the same for flat blobtrees
+//!   (`render_sphere_leg_in::<BlobtreeOnly>`), feature `sphere-blobtree`,
+//!   a module of its own;
 //! - `trace_segment_blobs` and `trace_segment_groups`: segment tracing in
 //!   resumable legs (`render_segment_leg_in`) of one scene kind each, the
 //!   same bindings, features `segment-blobs` and `segment-groups`; likewise
@@ -22,17 +25,17 @@
 //!   `trace_quadratic_taylor_{blobs,groups}` (forward linear and quadratic
 //!   inclusions from Taylor bounds), features `linear-taylor-blobs`, …:
 //!   each in a module of its own (`scripts/build-spirv.sh` builds all
-//!   seven);
+//!   eight);
 //! - `trace_pixels`: every GPU method ([`render_pixel`]), feature `trace`
 //!   (`BOUNDTRACE_SHADER_FEATURES=trace scripts/build-spirv.sh`): it links,
 //!   but is too large for such a driver (BENCHMARKS.md "GPU").
 #![cfg_attr(target_arch = "spirv", no_std)]
 
 use boundtrace_fields::PointBlob;
-#[cfg(feature = "trace")]
-use boundtrace_gpu_kernel::render_pixel;
 #[allow(unused_imports)]
 use boundtrace_gpu_kernel as kernel;
+#[cfg(feature = "trace")]
+use boundtrace_gpu_kernel::render_pixel;
 use boundtrace_gpu_kernel::{Constants, HitOut, PixelLeg, PixelOut};
 use boundtrace_ia_core::{Interval, round};
 use boundtrace_tracer::Root;
@@ -219,38 +222,6 @@ pub fn trace_sphere(
     );
 }
 
-/// [`trace_sphere`] for `SceneKind::Blobtree` scenes (the flat blobtree of
-/// the `aggregate-*` scenes, `render_sphere_leg_in::<BlobtreeOnly>`),
-/// feature `sphere-blobtree`: a module of its own (beside `trace_sphere`,
-/// spirv-opt runs out of SPIR-V ids).
-#[cfg(feature = "sphere-blobtree")]
-#[allow(clippy::too_many_arguments)]
-#[spirv(compute(threads(8, 8)))]
-pub fn trace_sphere_blobtree(
-    #[spirv(global_invocation_id)] id: UVec3,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] constants: &Constants,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] words: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] floats: &[f32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] blobs: &[PointBlob<f32>],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] pixels: &mut [PixelOut],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] hits: &mut [HitOut],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] roots: &mut [Root<f32>],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] legs: &mut [PixelLeg],
-) {
-    leg_entry(
-        id,
-        constants,
-        words,
-        floats,
-        blobs,
-        pixels,
-        hits,
-        roots,
-        legs,
-        kernel::render_sphere_leg_in::<kernel::BlobtreeOnly>,
-    );
-}
-
 /// A leg entry point like [`trace_sphere`] (the same bindings, layout and
 /// legs) for one method and scene kind, `render` its kernel function, in a
 /// module of its own (built with its feature alone): spirv-opt and drivers
@@ -328,6 +299,17 @@ leg_entry_point!(
     "quadratic-taylor-groups",
     trace_quadratic_taylor_groups,
     kernel::render_quadratic_taylor_leg_in::<kernel::GroupsOnly>
+);
+
+leg_entry_point!(
+    /// [`trace_sphere`] for `SceneKind::Blobtree` scenes (the flat
+    /// blobtrees of the `aggregate-*` scenes,
+    /// `render_sphere_leg_in::<BlobtreeOnly>`), feature `sphere-blobtree`:
+    /// a module of its own (beside `trace_sphere`, spirv-opt runs out of
+    /// SPIR-V ids).
+    "sphere-blobtree",
+    trace_sphere_blobtree,
+    kernel::render_sphere_leg_in::<kernel::BlobtreeOnly>
 );
 
 /// The body of the leg entry points: one leg of pixel `(id.x, id.y)` by

@@ -68,9 +68,12 @@
 //!
 //! Limits: `f32` only; the per-pixel root buffer of transparent mode holds
 //! [`MAX_GPU_ROOTS`] roots (more is a [`GpuError::MaxRoots`]); scenes with
-//! flat GPU data are the blob scenes (`blobs`, `blobs-sum`) and `molecule`
+//! flat GPU data are the blob scenes (`blobs`, `blobs-sum`), `molecule`
 //! (which lavapipe's loop limit makes slow, in many legs: see
-//! [`GpuScene::from_scene`] and [`GpuError::LoopLimit`]).
+//! [`GpuScene::from_scene`] and [`GpuError::LoopLimit`]) and the
+//! `aggregate-*` blobtrees (sphere tracing only, in the `sphere-blobtree`
+//! module; on lavapipe the 1,110- and 11,110-primitive trees end in
+//! [`GpuError::LoopLimit`]).
 //!
 //! # Soundness on a GPU
 //! The interval code rounds outward from correctly rounded `+ − ×` (Vulkan
@@ -129,37 +132,51 @@ const ENTRY: &str = "trace_pixels";
 /// in the module).
 const SPHERE_ENTRY: &str = "trace_sphere";
 
-/// The methods traced in legs like [`SPHERE_ENTRY`] by modules of their
-/// own, one per method and scene kind of [`LEG_KINDS`]
-/// ([`leg_spirv_path`]), with their names in the shader's features and
-/// entry points (`trace_segment_blobs`, …).
-const LEG_METHODS: [(Method, &str); 3] = [
-    (Method::Segment, "segment"),
-    (Method::LinearTaylor, "linear-taylor"),
-    (Method::QuadraticTaylor, "quadratic-taylor"),
-];
-
-/// The scene kinds of the leg modules, with their names.
-const LEG_KINDS: [(SceneKind, &str); 2] = [
-    (SceneKind::Blobs, "blobs"),
-    (SceneKind::BlobGroups, "groups"),
+/// The leg modules: the method each traces in legs like [`SPHERE_ENTRY`],
+/// on one scene kind, and its name in the shader's features, the module's
+/// file name and its entry point (`segment-blobs`: feature
+/// `segment-blobs`, `…-segment-blobs.spv`, `trace_segment_blobs`); see
+/// [`leg_spirv_path`].
+const LEG_MODULE_LIST: [(Method, SceneKind, &str); 7] = [
+    (Method::Segment, SceneKind::Blobs, "segment-blobs"),
+    (Method::Segment, SceneKind::BlobGroups, "segment-groups"),
+    (
+        Method::LinearTaylor,
+        SceneKind::Blobs,
+        "linear-taylor-blobs",
+    ),
+    (
+        Method::LinearTaylor,
+        SceneKind::BlobGroups,
+        "linear-taylor-groups",
+    ),
+    (
+        Method::QuadraticTaylor,
+        SceneKind::Blobs,
+        "quadratic-taylor-blobs",
+    ),
+    (
+        Method::QuadraticTaylor,
+        SceneKind::BlobGroups,
+        "quadratic-taylor-groups",
+    ),
+    (Method::Sphere, SceneKind::Blobtree, "sphere-blobtree"),
 ];
 
 /// How many leg modules there are.
-const LEG_MODULES: usize = LEG_METHODS.len() * LEG_KINDS.len();
+const LEG_MODULES: usize = LEG_MODULE_LIST.len();
 
 /// The index of the leg module of `method` on `kind`, if there is one.
 fn leg_slot(method: Method, kind: SceneKind) -> Option<usize> {
-    let m = LEG_METHODS.iter().position(|&(x, _)| x == method)?;
-    let k = LEG_KINDS.iter().position(|&(x, _)| x == kind)?;
-    Some(m * LEG_KINDS.len() + k)
+    LEG_MODULE_LIST
+        .iter()
+        .position(|&(m, k, _)| m == method && k == kind)
 }
 
 /// The method, scene kind and name (`segment-blobs`) of leg module `slot`.
 fn leg_module(slot: usize) -> (Method, SceneKind, String) {
-    let (method, m) = LEG_METHODS[slot / LEG_KINDS.len()];
-    let (kind, k) = LEG_KINDS[slot % LEG_KINDS.len()];
-    (method, kind, format!("{m}-{k}"))
+    let (method, kind, name) = LEG_MODULE_LIST[slot];
+    (method, kind, name.to_string())
 }
 
 /// The entry point of leg module `slot` (`trace_segment_blobs`).
@@ -326,7 +343,11 @@ impl GpuScene {
     /// The flat data of a standard scene: `blobs` (union of blob groups),
     /// `blobs-sum` (one blob set) and `molecule` (one blob set of 500
     /// Gaussian atoms with its generator's global Lipschitz bound,
-    /// [`Constants::lipschitz`]).
+    /// [`Constants::lipschitz`]) and the `aggregate-*` blobtrees (node
+    /// words and parameters as built, with the tree's Lipschitz bound as
+    /// the CPU computes it; sphere tracing only, by the
+    /// `sphere-blobtree` module, [`leg_spirv_path`]; primitives of every
+    /// kind but gyroids and blobs).
     ///
     /// A `molecule` field call loops over 500 atoms: lavapipe's llvmpipe
     /// allows 65,535 loop iterations per 8 pixels and dispatch, so its
@@ -340,9 +361,8 @@ impl GpuScene {
     ///
     /// # Errors
     /// [`GpuError::UnsupportedScene`] for the other scenes: the HRBF and
-    /// SCALIS scenes (no flat field yet), the blobtrees (their entry point
-    /// compiles, but its build needs about 23 GB of memory, so the build
-    /// script does not build it yet).
+    /// SCALIS scenes (no flat field yet), and blobtrees with gyroid or blob
+    /// primitives.
     pub fn from_scene(scene: &Scene<f32>) -> Result<Self, GpuError> {
         let bounds = scene.bounds();
         let unsupported = |why: &str| {
@@ -382,13 +402,26 @@ impl GpuScene {
                 }
                 s.groups = children.len() as u32;
             }
-            SceneField::Blobtree(_) => {
-                return unsupported(
-                    "the blobtree entry point (`trace_sphere_blobtree`, shader feature \
-                     `sphere-blobtree`) is not built by the build script yet: its \
-                     rust-gpu build peaks at 23 GB of memory (BENCHMARKS.md \"GPU\", \
-                     session 23)",
-                );
+            SceneField::Blobtree(tree) => {
+                // Validated when it was built (`FlatBlobtree`); the shader
+                // decodes it without checks.
+                let t = tree.as_ref();
+                if !t.primitives_among::<boundtrace_fields::AlgebraicPrimitives>() {
+                    return unsupported(
+                        "it has gyroid or blob primitives, which the GPU's blobtree field \
+                         leaves out (their transcendental functions would double the shader)",
+                    );
+                }
+                let Some(l) = t
+                    .lipschitz_bound::<f32>()
+                    .filter(|l| *l > 0.0 && l.is_finite())
+                else {
+                    return unsupported("its Lipschitz bound is not a positive number");
+                };
+                s.kind = SceneKind::Blobtree;
+                s.words = t.nodes().to_vec();
+                s.floats = t.params().to_vec();
+                s.lipschitz = l;
             }
             SceneField::Molecule(m) => {
                 let l = m.bound();
@@ -721,7 +754,8 @@ impl GpuTracer {
         kind: SceneKind,
     ) -> Result<(&wgpu::ComputePipeline, bool), GpuError> {
         let unavailable = |why: String| GpuError::MethodUnavailable { method, why };
-        if method == Method::Sphere {
+        let slot = leg_slot(method, kind);
+        if method == Method::Sphere && slot.is_none() {
             return self
                 .lazy_pipeline(&self.sphere, &self.module, SPHERE_ENTRY)
                 .as_ref()
@@ -730,7 +764,6 @@ impl GpuTracer {
         }
         let entries = entry_points(&self.module);
         let has = |m: &[u8], e: &str| entry_points(m).iter().any(|x| x == e);
-        let slot = leg_slot(method, kind);
         if let Some(slot) = slot {
             let entry = leg_entry(slot);
             let module = if has(&self.module, &entry) {
@@ -755,10 +788,10 @@ impl GpuTracer {
                 ),
                 None => String::new(),
             };
-            let legs: Vec<&str> = LEG_METHODS.iter().map(|&(_, m)| m).collect();
+            let legs: Vec<&str> = LEG_MODULE_LIST.iter().map(|&(_, _, m)| m).collect();
             return Err(unavailable(format!(
-                "the module has `{SPHERE_ENTRY}` (sphere tracing) and the leg modules trace \
-                 {} on the blob scenes{missing}; every method is in `{ENTRY}`, built by \
+                "the module has `{SPHERE_ENTRY}` (sphere tracing of the blob scenes) and the \
+                 leg modules are {}{missing}; every method is in `{ENTRY}`, built by \
                  BOUNDTRACE_SHADER_FEATURES=sphere,trace {BUILD_COMMAND}, which drivers that \
                  inline every call (lavapipe) cannot compile yet (BENCHMARKS.md \"GPU\")",
                 legs.join(", ")
@@ -1879,8 +1912,19 @@ mod tests {
         };
         assert_eq!(m.lipschitz, field.bound());
         assert!(m.lipschitz > 0.0 && m.lipschitz.is_finite());
+        // a blobtree: its words and parameters, and its own Lipschitz bound
         let agg = Scene::<f32>::build("aggregate-1", DEFAULT_SEED).unwrap();
-        assert!(GpuScene::from_scene(&agg).is_err());
+        let a = GpuScene::from_scene(&agg).unwrap();
+        let SceneField::Blobtree(tree) = agg.field() else {
+            panic!("aggregate-1 is a blobtree")
+        };
+        assert_eq!(a.kind(), SceneKind::Blobtree);
+        assert_eq!(
+            (&a.words[..], &a.floats[..]),
+            (tree.as_ref().nodes(), tree.as_ref().params())
+        );
+        assert_eq!(Some(a.lipschitz), tree.as_ref().lipschitz_bound::<f32>());
+        assert_eq!(leg_slot(Method::Sphere, SceneKind::Blobtree), Some(6));
         let hrbf = Scene::<f32>::build("hrbf-8", DEFAULT_SEED).unwrap();
         let e = GpuScene::from_scene(&hrbf).unwrap_err();
         assert!(e.to_string().contains("hrbf-8"), "{e}");
@@ -1945,6 +1989,8 @@ mod tests {
         assert!(script.contains("\"${out%.spv}-$method-$kind.spv\""));
         assert!(script.contains("for method in segment linear-taylor quadratic-taylor; do"));
         assert!(script.contains("for kind in blobs groups; do"));
+        assert!(script.contains("BOUNDTRACE_SHADER_FEATURES=sphere-blobtree"));
+        assert!(script.contains("\"${out%.spv}-sphere-blobtree.spv\""));
         let shader = include_str!("../../gpu-shader/src/lib.rs");
         let features = include_str!("../../gpu-shader/Cargo.toml");
         for slot in 0..LEG_MODULES {

@@ -1,6 +1,8 @@
 //! Difftests: the SPIR-V tracer on wgpu against the CPU renderer, for every
 //! standard scene with flat GPU data × every GPU method: `blobs` and
-//! `blobs-sum` at 32 × 32, `molecule` (500 Gaussian atoms) at 8 × 8. On
+//! `blobs-sum` at 32 × 32, `molecule` (500 Gaussian atoms) at 8 × 8, and
+//! by sphere tracing the blobtrees `aggregate-1` (16 × 16) and
+//! `aggregate-2` (8 × 8), CSG and smooth ([`BLOBTREES`]). On
 //! lavapipe, whose llvmpipe ends every loop of 8 pixels after 65,535
 //! iterations per dispatch, every `molecule` frame of [`MOLECULE_ON_LAVAPIPE`]
 //! must render and match (steps, their inner bisections and normals resume
@@ -45,6 +47,19 @@ const SCENES: [&[SceneCase]; 2] = [
     &[("blobs", 32, true)],
     &[("blobs-sum", 32, true), ("molecule", 8, false)],
 ];
+
+/// The blobtree scenes (`aggregate-*`, flat blobtrees of A-SDF primitives
+/// under CSG or compact smooth unions), traced on the GPU by sphere tracing
+/// only (the `sphere-blobtree` module), one tracer for all. `aggregate-3`
+/// and `-4` (1,110 and 11,110 primitives) end in `GpuError::LoopLimit` on
+/// lavapipe: one normal (a gradient through the whole tree) needs more
+/// than its 65,535 loop iterations (BENCHMARKS.md "GPU", session 23).
+const BLOBTREES: [&[SceneCase]; 1] = [&[
+    ("aggregate-1", 16, true),
+    ("aggregate-1-smooth", 16, false),
+    ("aggregate-2", 8, false),
+    ("aggregate-2-smooth", 8, false),
+]];
 
 /// The `molecule` frames that fit lavapipe's loop limit: they must render
 /// and match the CPU there — since session 21 (resumable inner loops of a
@@ -332,6 +347,15 @@ fn short_legs_match(
 #[test]
 fn sphere_matches_the_cpu_in_both_modes() {
     run(&[Method::Sphere], &SCENES, true);
+}
+
+/// Sphere tracing of flat blobtrees (the `sphere-blobtree` module's
+/// `trace_sphere_blobtree`) against the CPU on every pixel of the
+/// [`BLOBTREES`] scenes, opaque and transparent, with the issue's
+/// thresholds; resumed legs on `aggregate-1`.
+#[test]
+fn sphere_matches_the_cpu_on_blobtrees() {
+    run(&[Method::Sphere], &BLOBTREES, true);
 }
 
 /// Segment tracing (the segment modules' `trace_segment_*` entry points, in legs like

@@ -5,7 +5,7 @@ use super::encoding::{BlobtreeRef, NodeWord, STACK_CAPACITY};
 use super::traversal::{SparseVisitor, TRAVERSAL_STACK, sparse_traverse};
 use crate::FieldError;
 use crate::operator::{Operator, OperatorKind};
-use crate::sdf::{Primitive, PrimitiveKind};
+use crate::sdf::{AllPrimitives, Primitive, PrimitiveKind, PrimitiveKinds};
 use boundtrace_ia_core::Real;
 use boundtrace_inclusion::{Field, FieldNum};
 
@@ -34,14 +34,14 @@ pub(crate) trait Program {
 /// `PRIMITIVE(nodeop, D, p)` of Alg. 1: decodes node `i` of `prog` (a
 /// leaf, word `w`) and evaluates it at `p`.
 #[inline]
-pub(crate) fn primitive_node<T: Real, N: FieldNum<T>, P: Program>(
+pub(crate) fn primitive_node<T: Real, N: FieldNum<T>, P: Program, K: PrimitiveKinds>(
     prog: &P,
     i: usize,
     w: NodeWord,
     p: [N; 3],
 ) -> N {
     match w.primitive_kind() {
-        Some(kind) => eval_primitive::<T, N>(kind, node_floats(prog, i), p),
+        Some(kind) => eval_primitive::<T, N, K>(kind, node_floats(prog, i), p),
         None => corrupt(),
     }
 }
@@ -63,16 +63,26 @@ pub(crate) fn operator_node<T: Real, N: FieldNum<T>, P: Program>(
 }
 
 /// The parameter floats a node can have (3 slots of 4), NaN beyond the
-/// node's own.
+/// node's own. Written out, not a loop: a GPU driver with a loop limit
+/// (lavapipe) counts every loop iteration, and this runs per primitive
+/// and evaluation.
 #[inline]
 fn node_floats<P: Program>(prog: &P, i: usize) -> [f32; 12] {
-    let mut d = [f32::NAN; 12];
-    let mut k = 0;
-    while k < 12 {
-        d[k] = prog.param(i, k);
-        k += 1;
-    }
-    d
+    let g = |k: usize| prog.param(i, k);
+    [
+        g(0),
+        g(1),
+        g(2),
+        g(3),
+        g(4),
+        g(5),
+        g(6),
+        g(7),
+        g(8),
+        g(9),
+        g(10),
+        g(11),
+    ]
 }
 
 /// A primitive of `kind` decoded from its parameter floats `d` and
@@ -82,8 +92,12 @@ fn node_floats<P: Program>(prog: &P, i: usize) -> [f32; 12] {
 /// tracer, the blobtree shader does not fit spirv-opt's id space).
 #[cfg_attr(target_arch = "spirv", inline(never))]
 #[cfg_attr(not(target_arch = "spirv"), inline)]
-fn eval_primitive<T: Real, N: FieldNum<T>>(kind: PrimitiveKind, d: [f32; 12], p: [N; 3]) -> N {
-    Primitive::<T>::decode_with(kind, |k| d[k]).eval(p)
+fn eval_primitive<T: Real, N: FieldNum<T>, K: PrimitiveKinds>(
+    kind: PrimitiveKind,
+    d: [f32; 12],
+    p: [N; 3],
+) -> N {
+    Primitive::<T>::decode_with(kind, |k| d[k]).eval_among::<N, K>(p)
 }
 
 /// An operator of `kind` with parameters `b`, `r` (its first two floats)
@@ -120,7 +134,13 @@ pub(crate) fn param_at(params: &[f32], offset: u32, k: usize) -> f32 {
 /// node word that does not decode or a stack overflow gives [`corrupt`]
 /// (validated data never does).
 #[inline]
-pub(crate) fn eval_program<T: Real, N: FieldNum<T>, P: Program, const S: usize>(
+pub(crate) fn eval_program<
+    T: Real,
+    N: FieldNum<T>,
+    P: Program,
+    K: PrimitiveKinds,
+    const S: usize,
+>(
     prog: &P,
     p: [N; 3],
 ) -> N {
@@ -136,7 +156,7 @@ pub(crate) fn eval_program<T: Real, N: FieldNum<T>, P: Program, const S: usize>(
             if sp >= S {
                 return corrupt();
             }
-            stack[sp] = primitive_node::<T, N, P>(prog, i, w, p);
+            stack[sp] = primitive_node::<T, N, P, K>(prog, i, w, p);
             sp += 1;
         } else {
             if sp < 2 {
@@ -214,7 +234,24 @@ impl<'a> BlobtreeRef<'a> {
     /// [`Field::eval`].
     #[inline]
     pub fn eval_full<T: Real, N: FieldNum<T>>(&self, p: [N; 3]) -> N {
-        eval_program::<T, N, Self, STACK_CAPACITY>(self, p)
+        self.eval_among::<T, N, AllPrimitives>(p)
+    }
+
+    /// [`eval_full`](Self::eval_full) compiled for the primitive kinds of
+    /// `K` only ([`Primitive::eval_among`]): a primitive of another kind
+    /// evaluates to NaN; for a tree without them, the same values.
+    #[inline]
+    pub fn eval_among<T: Real, N: FieldNum<T>, K: PrimitiveKinds>(&self, p: [N; 3]) -> N {
+        eval_program::<T, N, Self, K, STACK_CAPACITY>(self, p)
+    }
+
+    /// Whether every primitive of the tree is of a kind of `K`.
+    pub fn primitives_among<K: PrimitiveKinds>(&self) -> bool {
+        (0..self.len()).all(|i| {
+            self.node_word(i)
+                .and_then(NodeWord::primitive_kind)
+                .is_none_or(K::contains)
+        })
     }
 
     /// The local field `f_𝒜` at `p` by a direct sparse traversal (paper
@@ -285,7 +322,7 @@ impl<T: Real, N: FieldNum<T>> SparseVisitor for SparseEval<'_, T, N> {
     #[inline]
     fn primitive(&mut self, node: u32) -> Result<(), FieldError> {
         let w = self.tree.word(node).ok_or(UNBALANCED)?;
-        let v = primitive_node::<T, N, _>(&self.tree, node as usize, w, self.p);
+        let v = primitive_node::<T, N, _, AllPrimitives>(&self.tree, node as usize, w, self.p);
         *self.stack.get_mut(self.sp).ok_or(OVERFLOW)? = v;
         self.sp += 1;
         Ok(())
@@ -323,5 +360,55 @@ impl<T: Real> Field<T> for BlobtreeRef<'_> {
 
     fn lipschitz(&self) -> Option<T> {
         self.lipschitz_bound()
+    }
+}
+
+/// A blobtree evaluated with the primitive kinds of `K` only
+/// ([`BlobtreeRef::eval_among`]): the field of the GPU shader's blobtree
+/// entry point, whose host checks [`BlobtreeRef::primitives_among`] before
+/// upload. For such a tree it is the [`BlobtreeRef`] field, bit for bit.
+#[derive(Clone, Copy, Debug)]
+pub struct BlobtreeAmong<'a, K> {
+    tree: BlobtreeRef<'a>,
+    _kinds: core::marker::PhantomData<K>,
+}
+
+impl<'a, K: PrimitiveKinds> BlobtreeAmong<'a, K> {
+    /// `tree`, evaluated with the kinds of `K` (a primitive of another
+    /// kind gives NaN).
+    ///
+    /// ```
+    /// use boundtrace_fields::blobtree::{BlobtreeAmong, FlatBlobtree, Node};
+    /// use boundtrace_fields::{AlgebraicPrimitives, Primitive};
+    /// use boundtrace_inclusion::Field;
+    /// let ball = FlatBlobtree::from_node(&Node::primitive(Primitive::sphere([0.0; 3], 0.5)?))?;
+    /// let t = ball.as_ref();
+    /// assert!(t.primitives_among::<AlgebraicPrimitives>());
+    /// let f = BlobtreeAmong::<AlgebraicPrimitives>::new(t);
+    /// assert_eq!(f.eval([1.0f32, 0.0, 0.0]), t.eval([1.0f32, 0.0, 0.0]));
+    /// // A gyroid is left out: NaN, and the check says so.
+    /// let g = FlatBlobtree::from_node(&Node::primitive(Primitive::gyroid(1.0, 0.1)?))?;
+    /// assert!(!g.as_ref().primitives_among::<AlgebraicPrimitives>());
+    /// let f = BlobtreeAmong::<AlgebraicPrimitives>::new(g.as_ref());
+    /// assert!(f.eval([0.1f32; 3]).is_nan());
+    /// # Ok::<(), boundtrace_fields::FieldError>(())
+    /// ```
+    #[inline]
+    pub fn new(tree: BlobtreeRef<'a>) -> Self {
+        Self {
+            tree,
+            _kinds: core::marker::PhantomData,
+        }
+    }
+}
+
+impl<T: Real, K: PrimitiveKinds> Field<T> for BlobtreeAmong<'_, K> {
+    #[inline]
+    fn eval<N: FieldNum<T>>(&self, p: [N; 3]) -> N {
+        self.tree.eval_among::<T, N, K>(p)
+    }
+
+    fn lipschitz(&self) -> Option<T> {
+        self.tree.lipschitz_bound()
     }
 }

@@ -4,6 +4,7 @@ use super::encoding::{BlobtreeRef, NodeWord};
 use super::eval::{Program, eval_program, lipschitz_program, param_at};
 use super::traversal::{SparseVisitor, sparse_traverse};
 use crate::FieldError;
+use crate::sdf::AllPrimitives;
 use boundtrace_ia_core::Real;
 use boundtrace_inclusion::{Field, FieldNum};
 
@@ -244,7 +245,7 @@ impl<T: Real, const V: usize, const D: usize, const S: usize> Field<T> for Prune
         if self.len == 0 {
             return N::constant(T::INFINITY);
         }
-        eval_program::<T, N, Self, S>(self, p)
+        eval_program::<T, N, Self, AllPrimitives, S>(self, p)
     }
 
     fn lipschitz(&self) -> Option<T> {
