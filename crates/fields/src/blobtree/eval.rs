@@ -89,7 +89,8 @@ fn node_floats<P: Program>(prog: &P, i: usize) -> [f32; 12] {
 /// evaluated at `p`. Arguments by value and, in the GPU shader, not
 /// inlined: the interpreter's nodes then share one copy of every
 /// primitive's code per number type (inlined at each evaluation of the
-/// tracer, the blobtree shader does not fit spirv-opt's id space).
+/// tracer, rust-gpu's build of the blobtree module ran out of this
+/// machine's 24 GiB; BENCHMARKS.md "GPU", session 23).
 #[cfg_attr(target_arch = "spirv", inline(never))]
 #[cfg_attr(not(target_arch = "spirv"), inline)]
 fn eval_primitive<T: Real, N: FieldNum<T>, K: PrimitiveKinds>(
