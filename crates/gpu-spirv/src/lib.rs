@@ -36,17 +36,19 @@
 //! forward linear and quadratic methods from Taylor bounds
 //! (`linear-taylor`, `quadratic-taylor`) run on the GPU and give the CPU's
 //! frame: the main module's `trace_sphere` and the leg modules'
-//! `trace_segment_*`, `trace_linear_taylor_*` and
-//! `trace_quadratic_taylor_*` entry points ([`leg_spirv_path`]) trace each
-//! pixel in resumable legs
-//! ([`boundtrace_gpu_kernel::render_sphere_leg`],
+//! `trace_segment_*`, `trace_linear_taylor_*`,
+//! `trace_quadratic_taylor_*` and `trace_sphere_blobtree` (sphere tracing
+//! of the `aggregate-*` blobtrees) entry points ([`leg_spirv_path`]) trace
+//! each pixel in resumable legs
+//! ([`boundtrace_gpu_kernel::render_sphere_leg_in`],
 //! [`boundtrace_gpu_kernel::render_segment_leg_in`], …), and
 //! [`GpuTracer::render`] dispatches until every pixel is done. On
 //! lavapipe, llvmpipe stops every loop of an 8-lane group after 65,535
 //! loop iterations in all, silently; a probe loop after each step sees
 //! it, the step is undone and the pixel resumes in the next dispatch, so
 //! the limit costs dispatches, never results (CI: `tests/difftest.rs`,
-//! every pixel of both blob scenes in both modes, every leg method).
+//! every pixel of both blob scenes in both modes, every leg method, and
+//! of `aggregate-1` and `-2` by sphere tracing).
 //! [`interval_probe`] and [`arith_probe`] check the driver's arithmetic
 //! against the CPU's. The other methods (bottom-up and mixed forward
 //! bounds, interval, affine, `scalis-quadratic`) live in the
