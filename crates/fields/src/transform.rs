@@ -109,8 +109,9 @@ impl<T: Real> Rigid<T> {
     /// [`new_keep_unit`](Self::new_keep_unit) without its checks, for
     /// parameters it accepted before (a validated blobtree, on the CPU or
     /// in a GPU shader, which cannot build error values): the same
-    /// transform, bit for bit. Parameters it would reject give a
-    /// transform with NaN or infinite entries, never a panic.
+    /// transform, bit for bit. Parameters it would reject give an
+    /// unspecified transform (NaN or infinite entries, or finite ones
+    /// from a tiny non-unit quaternion), never a panic.
     #[inline]
     pub(crate) fn decode(rotation_xyzw: [T; 4], translation: [T; 3]) -> Self {
         let q = rotation_xyzw;

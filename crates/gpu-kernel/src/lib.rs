@@ -116,56 +116,35 @@ pub trait SceneKinds {
     const BLOBTREE: bool;
 }
 
-/// Every scene kind ([`SceneKinds`]).
-#[derive(Clone, Copy, Debug, Default)]
-pub struct AllKinds;
+/// Declares unit marker types and their [`SceneKinds`] flags.
+macro_rules! scene_kinds {
+    ($($(#[$doc:meta])* $name:ident = [$blobs:literal, $groups:literal, $blobtree:literal];)*) => {$(
+        $(#[$doc])*
+        #[derive(Clone, Copy, Debug, Default)]
+        pub struct $name;
 
-impl SceneKinds for AllKinds {
-    const BLOBS: bool = true;
-    const GROUPS: bool = true;
-    const BLOBTREE: bool = true;
+        impl SceneKinds for $name {
+            const BLOBS: bool = $blobs;
+            const GROUPS: bool = $groups;
+            const BLOBTREE: bool = $blobtree;
+        }
+    )*};
 }
 
-/// The blob scenes, [`SceneKind::Blobs`] and [`SceneKind::BlobGroups`]
-/// ([`SceneKinds`]): the shader's `trace_sphere`.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct BlobKinds;
-
-impl SceneKinds for BlobKinds {
-    const BLOBS: bool = true;
-    const GROUPS: bool = true;
-    const BLOBTREE: bool = false;
-}
-
-/// [`SceneKind::Blobtree`] only ([`SceneKinds`]): the shader's
-/// `trace_sphere_blobtree`.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct BlobtreeOnly;
-
-impl SceneKinds for BlobtreeOnly {
-    const BLOBS: bool = false;
-    const GROUPS: bool = false;
-    const BLOBTREE: bool = true;
-}
-
-/// [`SceneKind::Blobs`] only ([`SceneKinds`]).
-#[derive(Clone, Copy, Debug, Default)]
-pub struct BlobsOnly;
-
-impl SceneKinds for BlobsOnly {
-    const BLOBS: bool = true;
-    const GROUPS: bool = false;
-    const BLOBTREE: bool = false;
-}
-
-/// [`SceneKind::BlobGroups`] only ([`SceneKinds`]).
-#[derive(Clone, Copy, Debug, Default)]
-pub struct GroupsOnly;
-
-impl SceneKinds for GroupsOnly {
-    const BLOBS: bool = false;
-    const GROUPS: bool = true;
-    const BLOBTREE: bool = false;
+// The flags in the order `[BLOBS, GROUPS, BLOBTREE]`.
+scene_kinds! {
+    /// Every scene kind ([`SceneKinds`]).
+    AllKinds = [true, true, true];
+    /// The blob scenes, [`SceneKind::Blobs`] and [`SceneKind::BlobGroups`]
+    /// ([`SceneKinds`]): the shader's `trace_sphere`.
+    BlobKinds = [true, true, false];
+    /// [`SceneKind::Blobtree`] only ([`SceneKinds`]): the shader's
+    /// `trace_sphere_blobtree`.
+    BlobtreeOnly = [false, false, true];
+    /// [`SceneKind::Blobs`] only ([`SceneKinds`]).
+    BlobsOnly = [true, false, false];
+    /// [`SceneKind::BlobGroups`] only ([`SceneKinds`]).
+    GroupsOnly = [false, true, false];
 }
 
 /// The frame's constants, as uploaded (plain `u32`/`f32` words, `#[repr(C)]`,
@@ -868,6 +847,46 @@ impl<M: LegTrace> PixelKernel for Legs<M> {
     }
 }
 
+/// The signature of the leg kernels ([`render_sphere_leg`],
+/// [`render_sphere_leg_in`], [`render_segment_leg_in`],
+/// [`render_linear_taylor_leg_in`], [`render_quadratic_taylor_leg_in`]):
+/// `(constants, words, floats, blobs, x, y, roots, hits, base, leg, out)`.
+/// The shader's leg entry points take any `LegKernel`; every function of
+/// that signature is one.
+pub trait LegKernel:
+    Fn(
+    &Constants,
+    &[u32],
+    &[f32],
+    &[PointBlob<f32>],
+    u32,
+    u32,
+    &mut [Root<f32>],
+    &mut [HitOut],
+    usize,
+    &mut PixelLeg,
+    &mut PixelOut,
+)
+{
+}
+
+impl<F> LegKernel for F where
+    F: Fn(
+        &Constants,
+        &[u32],
+        &[f32],
+        &[PointBlob<f32>],
+        u32,
+        u32,
+        &mut [Root<f32>],
+        &mut [HitOut],
+        usize,
+        &mut PixelLeg,
+        &mut PixelOut,
+    )
+{
+}
+
 /// One leg of pixel `(x, y)`'s sphere tracing ([`render_sphere_pixel`] in
 /// steps that a driver's loop limit cannot corrupt): from `leg`
 /// (zero-filled before the first dispatch), it traces until the trace ends
@@ -1325,22 +1344,10 @@ mod tests {
         (Method::Segment, Mode::Opaque),
     ];
 
-    /// A 6 × 6 frame of `bounds` for `method` and `mode`.
-    /// A leg kernel's signature.
-    type LegFn = fn(
-        &Constants,
-        &[u32],
-        &[f32],
-        &[PointBlob<f32>],
-        u32,
-        u32,
-        &mut [Root<f32>],
-        &mut [HitOut],
-        usize,
-        &mut PixelLeg,
-        &mut PixelOut,
-    );
+    /// A leg kernel, as the tests pass them around.
+    type LegFn = &'static dyn LegKernel;
 
+    /// A 6 × 6 frame of `bounds` for `method` and `mode`.
     fn six_by_six(bounds: [[f32; 3]; 2], method: Method, mode: Mode) -> PixelSetup<f32> {
         PixelSetup {
             camera: Camera::framing(bounds, [0.2, -0.3, -1.0], 40.0, 1.0).unwrap(),
@@ -1455,15 +1462,15 @@ mod tests {
         }
         let (blobs, bounds) = two_blobs();
         let kernels: [(Method, LegFn); 4] = [
-            (Method::Sphere, render_sphere_leg),
-            (Method::Segment, render_segment_leg),
+            (Method::Sphere, &render_sphere_leg),
+            (Method::Segment, &render_segment_leg),
             (
                 Method::LinearTaylor,
-                render_linear_taylor_leg_in::<AllKinds>,
+                &render_linear_taylor_leg_in::<AllKinds>,
             ),
             (
                 Method::QuadraticTaylor,
-                render_quadratic_taylor_leg_in::<AllKinds>,
+                &render_quadratic_taylor_leg_in::<AllKinds>,
             ),
         ];
         let mut resumed = 0;
@@ -1654,25 +1661,25 @@ mod tests {
             (
                 Method::Segment,
                 [
-                    render_segment_leg_in::<AllKinds>,
-                    render_segment_leg_in::<BlobsOnly>,
-                    render_segment_leg_in::<GroupsOnly>,
+                    &render_segment_leg_in::<AllKinds>,
+                    &render_segment_leg_in::<BlobsOnly>,
+                    &render_segment_leg_in::<GroupsOnly>,
                 ],
             ),
             (
                 Method::LinearTaylor,
                 [
-                    render_linear_taylor_leg_in::<AllKinds>,
-                    render_linear_taylor_leg_in::<BlobsOnly>,
-                    render_linear_taylor_leg_in::<GroupsOnly>,
+                    &render_linear_taylor_leg_in::<AllKinds>,
+                    &render_linear_taylor_leg_in::<BlobsOnly>,
+                    &render_linear_taylor_leg_in::<GroupsOnly>,
                 ],
             ),
             (
                 Method::QuadraticTaylor,
                 [
-                    render_quadratic_taylor_leg_in::<AllKinds>,
-                    render_quadratic_taylor_leg_in::<BlobsOnly>,
-                    render_quadratic_taylor_leg_in::<GroupsOnly>,
+                    &render_quadratic_taylor_leg_in::<AllKinds>,
+                    &render_quadratic_taylor_leg_in::<BlobsOnly>,
+                    &render_quadratic_taylor_leg_in::<GroupsOnly>,
                 ],
             ),
         ];
@@ -1753,7 +1760,7 @@ mod tests {
                         assert_eq!(leg.phase, PHASE_DONE);
                         (out, hs)
                     };
-                    let (gpu, hs) = run(render_sphere_leg_in::<BlobtreeOnly>);
+                    let (gpu, hs) = run(&render_sphere_leg_in::<BlobtreeOnly>);
                     let mut rc = [r; 4];
                     let cpu = trace_pixel_in(scene.field(), &setup, x, y, &mut rc, [0, 4]);
                     assert_eq!(gpu.steps, cpu.trace.stats.steps, "({x}, {y}) {mode:?}");
@@ -1764,7 +1771,7 @@ mod tests {
                     }
                     hit_pixels += usize::from(gpu.roots > 0);
                     // `trace_sphere`'s kinds do not hold the blobtree.
-                    let (other, _) = run(render_sphere_leg_in::<BlobKinds>);
+                    let (other, _) = run(&render_sphere_leg_in::<BlobKinds>);
                     assert_eq!(other.status, Status::Unsupported as u32);
                 }
             }

@@ -338,19 +338,7 @@ fn leg_entry<R>(
     legs: &mut [PixelLeg],
     render: R,
 ) where
-    R: Fn(
-        &Constants,
-        &[u32],
-        &[f32],
-        &[PointBlob<f32>],
-        u32,
-        u32,
-        &mut [Root<f32>],
-        &mut [HitOut],
-        usize,
-        &mut PixelLeg,
-        &mut PixelOut,
-    ),
+    R: kernel::LegKernel,
 {
     let c = *constants;
     if id.x >= c.width || id.y >= c.height {
