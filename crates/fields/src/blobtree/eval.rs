@@ -29,6 +29,28 @@ pub(crate) trait Program {
     fn node_word(&self, i: usize) -> Option<NodeWord>;
     /// Parameter float `k` of node `i` (NaN out of range).
     fn param(&self, i: usize, k: usize) -> f32;
+    /// The 12 parameter floats a node can have (3 slots of 4) of node
+    /// `i`, `param(i, 0..12)`. Written out, not a loop: a GPU driver with
+    /// a loop limit (lavapipe) counts every loop iteration, and this runs
+    /// per primitive and evaluation.
+    #[inline]
+    fn node_floats(&self, i: usize) -> [f32; 12] {
+        let g = |k: usize| self.param(i, k);
+        [
+            g(0),
+            g(1),
+            g(2),
+            g(3),
+            g(4),
+            g(5),
+            g(6),
+            g(7),
+            g(8),
+            g(9),
+            g(10),
+            g(11),
+        ]
+    }
 }
 
 /// `PRIMITIVE(nodeop, D, p)` of Alg. 1: decodes node `i` of `prog` (a
@@ -41,7 +63,7 @@ pub(crate) fn primitive_node<T: Real, N: FieldNum<T>, P: Program, K: PrimitiveKi
     p: [N; 3],
 ) -> N {
     match w.primitive_kind() {
-        Some(kind) => eval_primitive::<T, N, K>(kind, node_floats(prog, i), p),
+        Some(kind) => eval_primitive::<T, N, K>(kind, prog.node_floats(i), p),
         None => corrupt(),
     }
 }
@@ -60,29 +82,6 @@ pub(crate) fn operator_node<T: Real, N: FieldNum<T>, P: Program>(
         Some(kind) => eval_operator::<T, N>(kind, prog.param(i, 0), prog.param(i, 1), f0, f1),
         None => corrupt(),
     }
-}
-
-/// The parameter floats a node can have (3 slots of 4), NaN beyond the
-/// node's own. Written out, not a loop: a GPU driver with a loop limit
-/// (lavapipe) counts every loop iteration, and this runs per primitive
-/// and evaluation.
-#[inline]
-fn node_floats<P: Program>(prog: &P, i: usize) -> [f32; 12] {
-    let g = |k: usize| prog.param(i, k);
-    [
-        g(0),
-        g(1),
-        g(2),
-        g(3),
-        g(4),
-        g(5),
-        g(6),
-        g(7),
-        g(8),
-        g(9),
-        g(10),
-        g(11),
-    ]
 }
 
 /// A primitive of `kind` decoded from its parameter floats `d` and
@@ -225,6 +224,52 @@ impl Program for BlobtreeRef<'_> {
             param_at(self.params(), nodes[2 * i + 1], k)
         } else {
             f32::NAN
+        }
+    }
+    /// The node's offset read once, and its 12 floats without a check
+    /// each when they all lie in the buffer (a validated tree's do, but
+    /// its last node may have fewer).
+    #[inline]
+    fn node_floats(&self, i: usize) -> [f32; 12] {
+        let (nodes, params) = (self.nodes(), self.params());
+        if 2 * i + 1 >= nodes.len() {
+            return [f32::NAN; 12];
+        }
+        let off = nodes[2 * i + 1] as usize;
+        // `off ≤ len / 4` first: `4·off + 12` cannot overflow then.
+        if off <= params.len() / 4 && 4 * off + 12 <= params.len() {
+            let at = 4 * off;
+            let d = |k: usize| params[at + k];
+            [
+                d(0),
+                d(1),
+                d(2),
+                d(3),
+                d(4),
+                d(5),
+                d(6),
+                d(7),
+                d(8),
+                d(9),
+                d(10),
+                d(11),
+            ]
+        } else {
+            let g = |k: usize| param_at(params, off as u32, k);
+            [
+                g(0),
+                g(1),
+                g(2),
+                g(3),
+                g(4),
+                g(5),
+                g(6),
+                g(7),
+                g(8),
+                g(9),
+                g(10),
+                g(11),
+            ]
         }
     }
 }
@@ -411,5 +456,50 @@ impl<T: Real, K: PrimitiveKinds> Field<T> for BlobtreeAmong<'_, K> {
 
     fn lipschitz(&self) -> Option<T> {
         self.tree.lipschitz_bound()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `param(i, 0..12)` one by one, as the trait's default reads them.
+    fn one_by_one<P: Program>(prog: &P, i: usize) -> [f32; 12] {
+        core::array::from_fn(|k| prog.param(i, k))
+    }
+
+    fn same(a: [f32; 12], b: [f32; 12]) -> bool {
+        a.iter().zip(&b).all(|(x, y)| x.to_bits() == y.to_bits())
+    }
+
+    /// The full tree's `node_floats` (offset read once, no per-float
+    /// check when all 12 lie in the buffer) equals `param` float by float:
+    /// on a valid tree, on buffers cut short (the last floats missing),
+    /// on offsets out of range (one near `u32::MAX`) and past the last node.
+    #[test]
+    fn node_floats_equal_param_by_param() {
+        let params: [f32; 40] = core::array::from_fn(|k| k as f32 * 0.5 + 0.25);
+        let word = |leaf: bool| if leaf { 0x8000_0000u32 } else { 0 };
+        let nodes = [
+            word(true),
+            0,
+            word(true),
+            3,
+            word(false),
+            7,
+            word(true),
+            9,
+            word(true),
+            u32::MAX,
+            word(true),
+            u32::MAX / 4,
+        ];
+        for cut in [40, 39, 36, 30, 12, 0] {
+            let t = BlobtreeRef::new_unchecked(&nodes, &params[..cut]);
+            for i in 0..nodes.len() / 2 + 2 {
+                let (a, b) = (Program::node_floats(&t, i), one_by_one(&t, i));
+                assert!(same(a, b), "node {i}, {cut} floats: {a:?} vs {b:?}");
+            }
+        }
     }
 }

@@ -274,6 +274,69 @@ impl<const V: usize, const D: usize, const S: usize> Program for PrunedView<'_, 
             None => f32::NAN,
         }
     }
+    /// The node's offset read once ([`Program::node_floats`] of the full
+    /// tree for a global one; the cache's 12 floats without a check each
+    /// when they all lie in it).
+    #[inline]
+    fn node_floats(&self, i: usize) -> [f32; 12] {
+        match self.offset.get(i) {
+            Some(&off) if off & GLOBAL != 0 => {
+                let g = |k: usize| param_at(self.tree.params(), off & !GLOBAL, k);
+                [
+                    g(0),
+                    g(1),
+                    g(2),
+                    g(3),
+                    g(4),
+                    g(5),
+                    g(6),
+                    g(7),
+                    g(8),
+                    g(9),
+                    g(10),
+                    g(11),
+                ]
+            }
+            Some(&off) => {
+                let at = off as usize;
+                let c = &self.cache;
+                let g = |k: usize| c.get(at + k).copied().unwrap_or(f32::NAN);
+                if at + 12 <= c.len() {
+                    let d = |k: usize| c[at + k];
+                    [
+                        d(0),
+                        d(1),
+                        d(2),
+                        d(3),
+                        d(4),
+                        d(5),
+                        d(6),
+                        d(7),
+                        d(8),
+                        d(9),
+                        d(10),
+                        d(11),
+                    ]
+                } else {
+                    [
+                        g(0),
+                        g(1),
+                        g(2),
+                        g(3),
+                        g(4),
+                        g(5),
+                        g(6),
+                        g(7),
+                        g(8),
+                        g(9),
+                        g(10),
+                        g(11),
+                    ]
+                }
+            }
+            None => [f32::NAN; 12],
+        }
+    }
 }
 
 #[cfg(all(test, feature = "alloc"))]
@@ -305,5 +368,35 @@ mod tests {
         assert!(empty.is_empty() && !empty.root_present());
         let v: f64 = empty.eval([0.0; 3]);
         assert_eq!(v, f64::INFINITY);
+    }
+
+    /// `node_floats` (offset read once) equals `param` float by float, for
+    /// cached nodes, nodes read from the full tree (a cache too small for
+    /// them) and indices past the view.
+    #[test]
+    fn node_floats_equal_param_by_param() {
+        let s = |x: f64| Node::primitive(Primitive::sphere([x, 0.2, 0.0], 0.6).unwrap());
+        let c =
+            |x: f64| Node::primitive(Primitive::cuboid([x, 0.0, 0.0], [0.3, 0.2, 0.1]).unwrap());
+        let u = Operator::compact_union(0.3, 0.4).unwrap();
+        let tree = Node::op(u, Node::op(u, s(0.0), c(0.9)), Node::op(u, c(0.5), s(3.0)));
+        let flat = FlatBlobtree::from_node(&tree).unwrap();
+        let all = flat.primitive_indices();
+        fn check<const D: usize>(view: &PrunedView<'_, VIEW_CAPACITY, D, VIEW_STACK>) {
+            for i in 0..view.len() + 2 {
+                let a = Program::node_floats(view, i);
+                let b: [f32; 12] = core::array::from_fn(|k| view.param(i, k));
+                let same = a.iter().zip(&b).all(|(x, y)| x.to_bits() == y.to_bits());
+                assert!(same, "node {i}, cache {D}: {a:?} vs {b:?}");
+            }
+        }
+        let big: PrunedView<'_, VIEW_CAPACITY, 256, VIEW_STACK> =
+            PrunedView::build(flat.as_ref(), &all).unwrap();
+        assert_eq!(big.uncached_nodes(), 0);
+        check(&big);
+        let small: PrunedView<'_, VIEW_CAPACITY, 14, VIEW_STACK> =
+            PrunedView::build(flat.as_ref(), &all).unwrap();
+        assert!(small.uncached_nodes() > 0);
+        check(&small);
     }
 }
