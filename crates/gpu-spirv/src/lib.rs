@@ -44,11 +44,15 @@
 //! [`boundtrace_gpu_kernel::render_segment_leg_in`], …), and
 //! [`GpuTracer::render`] dispatches until every pixel is done. On
 //! lavapipe, llvmpipe stops every loop of an 8-lane group after 65,535
-//! loop iterations in all, silently; a probe loop after each step sees
+//! loop iterations in all, silently (and it runs every loop at least
+//! once, also in code that no lane of the group takes: a loop in a
+//! blobtree operator's code costs an iteration at every node, so the
+//! shared code keeps such paths loop-free, e.g.
+//! [`Real::powi_std`](boundtrace_ia_core::Real::powi_std)); a probe loop after each step sees
 //! it, the step is undone and the pixel resumes in the next dispatch, so
 //! the limit costs dispatches, never results (CI: `tests/difftest.rs`,
 //! every pixel of both blob scenes in both modes, every leg method, and
-//! of `aggregate-1` and `-2` by sphere tracing).
+//! of `aggregate-1` to `-3` by sphere tracing).
 //! [`interval_probe`] and [`arith_probe`] check the driver's arithmetic
 //! against the CPU's. The other methods (bottom-up and mixed forward
 //! bounds, interval, affine, `scalis-quadratic`) live in the
@@ -74,7 +78,7 @@
 //! (which lavapipe's loop limit makes slow, in many legs: see
 //! [`GpuScene::from_scene`] and [`GpuError::LoopLimit`]) and the
 //! `aggregate-*` blobtrees (sphere tracing only, in the `sphere-blobtree`
-//! module; on lavapipe the 1,110- and 11,110-primitive trees end in
+//! module; on lavapipe the 11,110-primitive `aggregate-4` ends in
 //! [`GpuError::LoopLimit`]).
 //!
 //! # Soundness on a GPU

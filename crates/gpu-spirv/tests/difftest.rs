@@ -1,8 +1,8 @@
 //! Difftests: the SPIR-V tracer on wgpu against the CPU renderer, for every
 //! standard scene with flat GPU data × every GPU method: `blobs` and
 //! `blobs-sum` at 32 × 32, `molecule` (500 Gaussian atoms) at 8 × 8, and
-//! by sphere tracing the blobtrees `aggregate-1` (16 × 16) and
-//! `aggregate-2` (8 × 8), CSG and smooth ([`BLOBTREES`]). On
+//! by sphere tracing the blobtrees `aggregate-1` (16 × 16), `aggregate-2`
+//! and `aggregate-3` (8 × 8), CSG and smooth ([`BLOBTREES`]). On
 //! lavapipe, whose llvmpipe ends every loop of 8 pixels after 65,535
 //! iterations per dispatch, every `molecule` frame of [`MOLECULE_ON_LAVAPIPE`]
 //! must render and match (steps, their inner bisections and normals resume
@@ -50,15 +50,19 @@ const SCENES: [&[SceneCase]; 2] = [
 
 /// The blobtree scenes (`aggregate-*`, flat blobtrees of A-SDF primitives
 /// under CSG or compact smooth unions), traced on the GPU by sphere tracing
-/// only (the `sphere-blobtree` module), one tracer for all. `aggregate-3`
-/// and `-4` (1,110 and 11,110 primitives) end in `GpuError::LoopLimit` on
-/// lavapipe: one normal (a gradient through the whole tree) needs more
-/// than its 65,535 loop iterations (BENCHMARKS.md "GPU", session 23).
+/// only (the `sphere-blobtree` module), one tracer for all. `aggregate-4`
+/// (11,110 primitives) ends in `GpuError::LoopLimit` on lavapipe: a
+/// normal (three evaluations of 22,219 nodes) needs more than its 65,535
+/// loop iterations, and so does a step where the 8 pixels of a group
+/// evaluate the tree at different places of the step's code
+/// (BENCHMARKS.md "GPU", session 24).
 const BLOBTREES: [&[SceneCase]; 1] = [&[
     ("aggregate-1", 16, true),
     ("aggregate-1-smooth", 16, false),
     ("aggregate-2", 8, false),
     ("aggregate-2-smooth", 8, false),
+    ("aggregate-3", 8, false),
+    ("aggregate-3-smooth", 8, false),
 ]];
 
 /// The `molecule` frames that fit lavapipe's loop limit: they must render

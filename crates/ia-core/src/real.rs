@@ -88,6 +88,35 @@ pub trait Real: num_traits::Float + Math + 'static {
     fn exp_ia(self) -> Self {
         self.m_exp()
     }
+
+    /// `selfⁿ` as the standard library's `powi` computes it: binary
+    /// powering from the lowest bit of `|n|` (the same products in the
+    /// same order), then `1 / p` for `n < 0`. Plain-float and jet field
+    /// evaluations use it.
+    ///
+    /// On CPUs it is [`num_traits::Float::powi`]. On SPIR-V it is
+    /// [`round::powi_unrolled`](crate::round::powi_unrolled), without a
+    /// loop for `|n| < 16`: llvmpipe runs every loop of a shader at least
+    /// once, taken or not, and caps an invocation's loop iterations at
+    /// 65,535 in all, so a power loop in a blobtree's operator code costs
+    /// iterations at every node (BENCHMARKS.md "GPU", session 24).
+    ///
+    /// ```
+    /// use boundtrace_ia_core::Real;
+    /// assert_eq!(1.5f32.powi_std(3), 3.375);
+    /// assert_eq!(2.0f64.powi_std(-2), 0.25);
+    /// ```
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
+    fn powi_std(self, n: i32) -> Self {
+        #[cfg(not(target_arch = "spirv"))]
+        {
+            num_traits::Float::powi(self, n)
+        }
+        #[cfg(target_arch = "spirv")]
+        {
+            crate::round::powi_unrolled(self, n)
+        }
+    }
 }
 
 macro_rules! impl_real {

@@ -213,6 +213,56 @@ fn pow_bit<T: Real>(state: (T, T, bool), n: u32, k: u32, up: bool) -> (T, T, boo
     (base, acc, have)
 }
 
+/// `xⁿ` in round-to-nearest products, loop-free for `|n| < 16`: binary
+/// powering from the lowest bit of `|n|` (`base` squared only while bits
+/// remain, the first factor taken as is), then the quotient `1 / p`
+/// ([`Math::m_div`](crate::Real), correctly rounded on SPIR-V too) for
+/// `n < 0` — the products and order of the standard library's `powi`
+/// (compiler-rt's `__powisf2` / `__powidf2`, and LLVM's expansion of a
+/// constant exponent), so the same bits. `|n| ≥ 16` falls back to
+/// [`num_traits::Float::powi`] (a loop). [`Real::powi_std`] uses it on
+/// SPIR-V; exposed for the tests that compare both on the CPU.
+///
+/// ```
+/// use boundtrace_ia_core::round::powi_unrolled;
+/// for n in -15..16 {
+///     assert_eq!(powi_unrolled(1.1f32, n), 1.1f32.powi(n));
+/// }
+/// ```
+#[cfg_attr(not(target_arch = "spirv"), inline)]
+pub fn powi_unrolled<T: Real>(x: T, n: i32) -> T {
+    let m = n.unsigned_abs();
+    if m >= 16 {
+        return num_traits::Float::powi(x, n);
+    }
+    if m == 0 {
+        return T::ONE;
+    }
+    let s = (x, T::ONE, false);
+    let s = powi_bit(s, m, 0);
+    let s = powi_bit(s, m, 1);
+    let s = powi_bit(s, m, 2);
+    let s = powi_bit(s, m, 3);
+    if n < 0 { T::ONE.m_div(s.1) } else { s.1 }
+}
+
+/// [`pow_bit`] with round-to-nearest products, for [`powi_unrolled`].
+#[cfg_attr(not(target_arch = "spirv"), inline)]
+fn powi_bit<T: Real>(state: (T, T, bool), m: u32, k: u32) -> (T, T, bool) {
+    let (mut base, mut acc, mut have) = state;
+    if m >> k == 0 {
+        return state;
+    }
+    if k > 0 {
+        base = base * base;
+    }
+    if (m >> k) & 1 == 1 {
+        acc = if have { acc * base } else { base };
+        have = true;
+    }
+    (base, acc, have)
+}
+
 /// [`powu_dir`] by a loop with one product per iteration (`acc · base`
 /// when the current bit of `n` is pending, else the squaring `base ·
 /// base`), so the product is written once.
@@ -251,6 +301,53 @@ fn powu_loop<T: Real>(x: T, mut n: u32, up: bool) -> T {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The GPU's power ([`powi_unrolled`]) against the standard library's
+    /// `powi` (compiler-rt), bit for bit, over signs, magnitudes from
+    /// subnormal to overflow, the special values and every `|n| < 16`
+    /// (and a few beyond, where it falls back to `Float::powi`).
+    #[test]
+    fn unrolled_powi_equals_std_powi() {
+        fn same<T: Real + core::fmt::Debug>(a: T, b: T) -> bool {
+            (a.is_nan() && b.is_nan()) || a.as_f64().to_bits() == b.as_f64().to_bits()
+        }
+        let mut xs64 = vec![
+            0.0f64,
+            -0.0,
+            1e-310,
+            1e-300,
+            0.3,
+            -0.7,
+            0.999_999_9,
+            1.0,
+            -1.0,
+            1.1,
+            -7.5,
+            1e30,
+            -1e200,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+        ];
+        // Many significands: where the products' roundings differ by order.
+        let mut v = 0.123_456_789_f64;
+        for _ in 0..200 {
+            v = (v * 3.7 + 0.31) % 5.0 - 2.5;
+            xs64.push(v);
+        }
+        let ns = (-15..16).chain([16, -16, 17, 31, -40]);
+        for n in ns {
+            for &x in &xs64 {
+                let (a, b) = (powi_unrolled(x, n), x.powi(n));
+                assert!(same(a, b), "{x:e}^{n}: {a:e} vs {b:e}");
+                let x = x as f32;
+                // Through a variable exponent, as the shader computes it.
+                let (a, b) = (powi_unrolled(x, n), x.powi(core::hint::black_box(n)));
+                assert!(same(a, b), "{x:e}^{n} (f32): {a:e} vs {b:e}");
+                assert!(same(x.powi_std(n), b), "{x:e}^{n} powi_std");
+            }
+        }
+    }
 
     #[test]
     fn unrolled_powers_equal_the_loop() {

@@ -70,9 +70,10 @@ impl<T: Real> Jet<T> {
             return Self::constant(T::ONE);
         }
         let nf = T::from_f64(n as f64);
-        let g = self.v.powi(n);
-        let g1 = nf * self.v.powi(n - 1);
-        let g2 = nf * T::from_f64((n - 1) as f64) * self.v.powi(n - 2);
+        // `powi_std`: no loop in a GPU shader (`Real::powi_std`).
+        let g = self.v.powi_std(n);
+        let g1 = nf * self.v.powi_std(n - 1);
+        let g2 = nf * T::from_f64((n - 1) as f64) * self.v.powi_std(n - 2);
         self.chain(g, g1, g2)
     }
 

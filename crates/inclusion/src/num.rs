@@ -105,7 +105,7 @@ macro_rules! float_num {
             #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn sqr(self) -> Self { self * self }
             #[cfg_attr(not(target_arch = "spirv"), inline)]
-            fn powi(self, n: i32) -> Self { Float::powi(self, n) }
+            fn powi(self, n: i32) -> Self { Real::powi_std(self, n) }
             #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn powf(self, p: $t) -> Self { Float::powf(self, p) }
             #[cfg_attr(not(target_arch = "spirv"), inline)]
