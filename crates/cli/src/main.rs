@@ -485,6 +485,7 @@ fn render_gpu(
     quiet: bool,
 ) -> Result<Frame<f32>, Fail> {
     use boundtrace_gpu::{GpuScene, GpuTracer};
+    use boundtrace_tracer::tile_programs::TilePrograms;
     let gpu_err = |e: boundtrace_gpu::GpuError| fail(format!("GPU backend: {e}"));
     let scene = file.build::<f32>()?;
     let b = scene.bounds().map(|c| c.map(f64::from));
@@ -498,7 +499,17 @@ fn render_gpu(
         scale: c.scale.map(|x| x as f32),
         projection: c.projection,
     };
-    let gpu_scene = GpuScene::from_scene(&scene).map_err(gpu_err)?;
+    // Blobtrees: one program per 8 × 8 tile (the primitives whose ABVs
+    // the tile's rays meet), built for this camera and size.
+    let gpu_scene = match scene.field() {
+        SceneField::Blobtree(tree) => {
+            let programs = TilePrograms::build(tree, &camera, scene.bounds(), w, h)
+                .map_err(|e| fail(format!("GPU backend: {e}")))?;
+            GpuScene::from_tile_programs(&scene, &programs)
+        }
+        _ => GpuScene::from_scene(&scene),
+    }
+    .map_err(gpu_err)?;
     let tracer = GpuTracer::new().map_err(gpu_err)?;
     let settings = RenderSettings::<f32>::new(w, h, method)
         .map_err(|e| fail(e.to_string()))?

@@ -416,7 +416,7 @@ fn gpu_backend_without_gpu_is_a_clear_error() {
 /// `trace_sphere` and `trace_quadratic_taylor_blobs` entry points; their
 /// agreement with the CPU is the GPU crate's difftest), and a method
 /// without a GPU entry point in the module is a clear error with nothing
-/// written.
+/// written; a standard blobtree renders by tile programs.
 #[cfg(feature = "gpu")]
 #[test]
 fn gpu_backend_renders_sphere_tracing() {
@@ -477,6 +477,25 @@ fn gpu_backend_renders_sphere_tracing() {
     let err = stderr(&o);
     assert_fails(&o, 1, &["GPU backend:", "quadratic-mixed"]);
     assert!(!Path::new(&no).exists(), "{err}");
+    // A blobtree (a standard scene by name) renders with one program per
+    // 8 × 8 tile (`TilePrograms`): the 11,110-primitive `aggregate-4` too.
+    let tree_png = d.path("tree.png");
+    let o = run(&[
+        "render",
+        "aggregate-4",
+        "-o",
+        &tree_png,
+        "--backend",
+        "gpu",
+        "--method",
+        "sphere",
+        "--size",
+        "16x16",
+        "--quiet",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let png = std::fs::read(&tree_png).unwrap();
+    assert!(png.len() > 8 && png[1..4] == *b"PNG", "not a PNG");
 }
 
 #[test]

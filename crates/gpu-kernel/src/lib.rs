@@ -49,7 +49,7 @@ mod groups;
 pub use groups::FlatBlobGroups;
 
 use boundtrace_fields::AlgebraicPrimitives;
-use boundtrace_fields::blobtree::{BlobtreeAmong, BlobtreeRef};
+use boundtrace_fields::blobtree::{BlobtreeRef, BlobtreeWindow};
 use boundtrace_fields::{Blobs, PointBlob};
 use boundtrace_inclusion::{Field, Ray};
 #[cfg(test)]
@@ -196,7 +196,11 @@ pub struct Constants {
     pub scene: u32,
     /// The iso-value of the blob scenes.
     pub iso: f32,
-    /// The number of blob groups ([`SceneKind::BlobGroups`]).
+    /// The number of blob groups ([`SceneKind::BlobGroups`]); for
+    /// [`SceneKind::Blobtree`] the number of 8 × 8 tiles per image row when
+    /// `words` holds one program per tile
+    /// ([`BlobtreeWindow::tile`](boundtrace_fields::blobtree::BlobtreeWindow::tile),
+    /// the host's `TilePrograms`), `0` when it holds the tree.
     pub groups: u32,
     /// Iterations of the loop-limit probe run after each sphere-tracing
     /// step of [`render_sphere_leg`] (`0`: no probe; the host sets
@@ -1153,17 +1157,25 @@ fn render_with<P: PixelKernel, K: SceneKinds>(
         // values the shader cannot build); here only the word count is
         // checked, and other invalid data gives NaN values, never a read
         // out of bounds.
-        Some(SceneKind::Blobtree) if K::BLOBTREE && (words.is_empty() || words.len() % 2 != 0) => {
+        Some(SceneKind::Blobtree)
+            if K::BLOBTREE && c.groups == 0 && (words.is_empty() || words.len() % 2 != 0) =>
+        {
             unsupported()
         }
         Some(SceneKind::Blobtree) if K::BLOBTREE => {
-            // Gyroids and blobs left out: their transcendental functions
-            // would double the shader (the host checks the tree has none).
-            let field = GlobalLipschitz {
-                field: BlobtreeAmong::<AlgebraicPrimitives>::new(BlobtreeRef::new_unchecked(
-                    words, floats,
-                )),
-                lipschitz: c.lipschitz,
+            // One field type for the whole tree and the tiles' programs, so
+            // that the module holds the tracer once. Gyroids and blobs left
+            // out: their transcendental functions would double the shader
+            // (the host checks the tree has none).
+            let field = if c.groups > 0 {
+                // Tiled (`Constants::groups` tiles per row): the program of
+                // the pixel's 8 × 8 tile, with its own Lipschitz bound.
+                let tile = (y / WORKGROUP)
+                    .wrapping_mul(c.groups)
+                    .wrapping_add(x / WORKGROUP);
+                BlobtreeWindow::<AlgebraicPrimitives>::tile(words, floats, tile as usize)
+            } else {
+                BlobtreeWindow::whole(BlobtreeRef::new_unchecked(words, floats), c.lipschitz)
             };
             p.run(&field, &setup, c.max_roots, x, y, roots, hits, base)
         }
@@ -1777,6 +1789,77 @@ mod tests {
             }
         }
         assert!(hit_pixels >= 8, "{hit_pixels}");
+    }
+
+    /// Tiled blobtrees: each pixel traced with its 8 × 8 tile's program
+    /// ([`Constants::groups`] tiles per row), as the CPU twin
+    /// (`render_tile_programs`) traces it, bit for bit, in both modes.
+    #[test]
+    fn tiled_blobtree_legs_trace_as_the_cpu_twin() {
+        use boundtrace_tracer::scenes::{DEFAULT_SEED, Scene, SceneField};
+        use boundtrace_tracer::tile_programs::{TilePrograms, render_tile_programs};
+        let scene = Scene::<f32>::build("aggregate-2", DEFAULT_SEED).unwrap();
+        let SceneField::Blobtree(tree) = scene.field() else {
+            panic!("aggregate-2 is a blobtree");
+        };
+        let t = tree.as_ref();
+        let r = Root {
+            t: 0.0,
+            side: Side::Touch,
+        };
+        let size = 20;
+        let (mut hit_pixels, mut tiles_seen) = (0, std::collections::BTreeSet::new());
+        for mode in [Mode::Opaque, Mode::Transparent] {
+            let setup = PixelSetup {
+                width: size,
+                height: size,
+                ..six_by_six(scene.bounds(), Method::Sphere, mode)
+            };
+            let programs =
+                TilePrograms::build(tree, &setup.camera, scene.bounds(), size, size).unwrap();
+            assert!(programs.max_nodes() < t.len());
+            let settings =
+                boundtrace_tracer::render::RenderSettings::new(size, size, Method::Sphere)
+                    .unwrap()
+                    .with_mode(mode)
+                    .with_max_roots(4)
+                    .unwrap();
+            let cpu = render_tile_programs(&programs, t, &setup.camera, scene.bounds(), &settings)
+                .unwrap();
+            let c = Constants::new(&setup, SceneKind::Blobtree, 0.0, 4, programs.grid().tiles_x);
+            for y in 0..size {
+                for x in 0..size {
+                    let (mut rs, mut hs) = ([r; 4], [HitOut::default(); 4]);
+                    let (mut leg, mut out) = (PixelLeg::default(), PixelOut::default());
+                    render_sphere_leg_in::<BlobtreeOnly>(
+                        &c,
+                        programs.words(),
+                        t.params(),
+                        &[],
+                        x,
+                        y,
+                        &mut rs,
+                        &mut hs,
+                        0,
+                        &mut leg,
+                        &mut out,
+                    );
+                    assert_eq!(leg.phase, PHASE_DONE);
+                    let px = cpu.pixel(x, y).unwrap();
+                    assert_eq!(out.steps, px.trace.stats.steps, "({x}, {y}) {mode:?}");
+                    assert_eq!(out.status, px.trace.status as u32);
+                    assert_eq!(out.roots, px.trace.roots);
+                    for (k, h) in cpu.hits(x, y).iter().enumerate() {
+                        assert_eq!(hs[k].t.to_bits(), h.t.to_bits(), "({x}, {y})");
+                        assert_eq!(hs[k].normal.map(f32::to_bits), h.normal.map(f32::to_bits));
+                    }
+                    hit_pixels += usize::from(out.roots > 0);
+                    tiles_seen.insert((x / 8, y / 8));
+                }
+            }
+        }
+        assert_eq!(tiles_seen.len(), 9);
+        assert!(hit_pixels >= 40, "{hit_pixels}");
     }
 
     #[test]

@@ -52,7 +52,15 @@
 //! it, the step is undone and the pixel resumes in the next dispatch, so
 //! the limit costs dispatches, never results (CI: `tests/difftest.rs`,
 //! every pixel of both blob scenes in both modes, every leg method, and
-//! of `aggregate-1` to `-3` by sphere tracing).
+//! of `aggregate-1` to `-3` by sphere tracing). Blobtrees also render
+//! tiled ([`GpuScene::from_tile_programs`]): one pruned program per 8 × 8
+//! tile, built on the host from the tile A-buffer's lists
+//! ([`TilePrograms`]), so each workgroup evaluates only the primitives its
+//! rays meet; the frame is its CPU twin's bit for bit, and `aggregate-4`
+//! (11,110 primitives) renders that way on lavapipe (difftest
+//! `sphere_matches_the_cpu_on_tiled_blobtrees`; the CLI's GPU backend
+//! renders blobtrees tiled). The tiles' programs are whole along each ray,
+//! not the paper's per-depth ranges.
 //! [`interval_probe`] and [`arith_probe`] check the driver's arithmetic
 //! against the CPU's. The other methods (bottom-up and mixed forward
 //! bounds, interval, affine, `scalis-quadratic`) live in the
@@ -79,7 +87,7 @@
 //! [`GpuScene::from_scene`] and [`GpuError::LoopLimit`]) and the
 //! `aggregate-*` blobtrees (sphere tracing only, in the `sphere-blobtree`
 //! module; on lavapipe the 11,110-primitive `aggregate-4` ends in
-//! [`GpuError::LoopLimit`]).
+//! [`GpuError::LoopLimit`] untiled, and renders tiled).
 //!
 //! # Soundness on a GPU
 //! The interval code rounds outward from correctly rounded `+ − ×` (Vulkan
@@ -118,11 +126,15 @@ use boundtrace_tracer::camera::Camera;
 use boundtrace_tracer::pixel::PixelSetup;
 use boundtrace_tracer::render::{Frame, Hit, Pixel, RenderError, RenderSettings};
 use boundtrace_tracer::scenes::{Scene, SceneField};
+use boundtrace_tracer::tile_programs::{TILE_SIZE, TilePrograms};
 use boundtrace_tracer::{Method, Mode, RayStats, Side, Status, Trace};
 use std::fmt;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 use std::time::{Duration, Instant};
+
+// A tile program serves the pixels of one workgroup.
+const _: () = assert!(TILE_SIZE == WORKGROUP);
 
 /// The command that builds the SPIR-V module (run from the repository root).
 pub const BUILD_COMMAND: &str = "scripts/build-spirv.sh";
@@ -343,6 +355,8 @@ pub struct GpuScene {
     groups: u32,
     /// The global Lipschitz bound that replaces the blobs' own (`0`: none).
     lipschitz: f32,
+    /// The image size the tile programs were built for (tiled blobtrees).
+    tiles: Option<[u32; 2]>,
 }
 
 impl GpuScene {
@@ -386,6 +400,7 @@ impl GpuScene {
             iso: 0.0,
             groups: 0,
             lipschitz: 0.0,
+            tiles: None,
         };
         match scene.field() {
             SceneField::Blobs(b) => {
@@ -449,6 +464,62 @@ impl GpuScene {
 
     /// The frame constants the shader reads for this scene, `camera` and
     /// `settings`, with `slots` root slots per pixel (no leg limit).
+    /// The tiled flat data of a blobtree scene: one program per 8 × 8
+    /// tile ([`TilePrograms`], built from this scene's tree for the camera
+    /// and image size of the frames to render), so that the pixels of a
+    /// workgroup evaluate only the primitives whose ABVs their rays meet:
+    /// the tile lists of synchronized tracing, whole along each ray. The
+    /// frame equals the CPU twin's,
+    /// [`render_tile_programs`](boundtrace_tracer::tile_programs::render_tile_programs)
+    /// (same programs, same code); its surface the full tree's (the ABV
+    /// property). Rendering it at another image size is refused.
+    ///
+    /// ```no_run
+    /// use boundtrace_gpu::{GpuScene, GpuTracer};
+    /// use boundtrace_tracer::Method;
+    /// use boundtrace_tracer::camera::Camera;
+    /// use boundtrace_tracer::render::RenderSettings;
+    /// use boundtrace_tracer::scenes::{DEFAULT_SEED, Scene, SceneField};
+    /// use boundtrace_tracer::tile_programs::TilePrograms;
+    ///
+    /// let scene = Scene::<f32>::build("aggregate-4", DEFAULT_SEED)?;
+    /// let SceneField::Blobtree(tree) = scene.field() else { unreachable!() };
+    /// let camera = Camera::framing(scene.bounds(), [0.0, 0.0, -1.0], 40.0, 1.0)?;
+    /// let programs = TilePrograms::build(tree, &camera, scene.bounds(), 64, 64)?;
+    /// let data = GpuScene::from_tile_programs(&scene, &programs)?;
+    /// let settings = RenderSettings::new(64, 64, Method::Sphere)?;
+    /// let frame = GpuTracer::new()?.render(&data, &camera, &settings)?;
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    ///
+    /// # Errors
+    /// As [`from_scene`](Self::from_scene), and
+    /// [`GpuError::UnsupportedScene`] for a scene that is not a blobtree.
+    pub fn from_tile_programs(
+        scene: &Scene<f32>,
+        programs: &TilePrograms,
+    ) -> Result<Self, GpuError> {
+        let mut s = Self::from_scene(scene)?;
+        if s.kind != SceneKind::Blobtree {
+            return Err(GpuError::UnsupportedScene(format!(
+                "scene `{}` is not a blobtree: tile programs are blobtree programs",
+                scene.name()
+            )));
+        }
+        let g = programs.grid();
+        s.words = programs.words().to_vec();
+        s.groups = g.tiles_x;
+        s.tiles = Some([g.width, g.height]);
+        Ok(s)
+    }
+
+    /// The image size of a tiled scene's programs
+    /// ([`from_tile_programs`](Self::from_tile_programs)); `None` when
+    /// untiled.
+    pub fn tiles(&self) -> Option<[u32; 2]> {
+        self.tiles
+    }
+
     fn constants(
         &self,
         camera: &Camera<f32>,
@@ -918,6 +989,14 @@ impl GpuTracer {
             Mode::Transparent if settings.max_roots <= MAX_GPU_ROOTS => settings.max_roots,
             Mode::Transparent => return Err(GpuError::MaxRoots(settings.max_roots)),
         };
+        if let Some([w, h]) = scene.tiles
+            && [w, h] != [settings.width, settings.height]
+        {
+            return Err(GpuError::UnsupportedScene(format!(
+                "the scene's tile programs were built for {w}x{h} pixels, the frame is {}x{}",
+                settings.width, settings.height
+            )));
+        }
         let (pipeline, resumable) = self.pipeline(settings.method, scene.kind)?;
         let c = Constants {
             leg_steps,

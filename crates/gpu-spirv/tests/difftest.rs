@@ -32,7 +32,8 @@
 use boundtrace_gpu::{GpuError, GpuScene, GpuTracer, MAX_GPU_ROOTS};
 use boundtrace_tracer::camera::Camera;
 use boundtrace_tracer::render::{Frame, RenderSettings, render_serial};
-use boundtrace_tracer::scenes::{DEFAULT_SEED, Scene};
+use boundtrace_tracer::scenes::{DEFAULT_SEED, Scene, SceneField};
+use boundtrace_tracer::tile_programs::{TilePrograms, render_tile_programs};
 use boundtrace_tracer::{Method, Mode};
 use std::sync::{Mutex, MutexGuard, Once, PoisonError};
 
@@ -360,6 +361,78 @@ fn sphere_matches_the_cpu_in_both_modes() {
 #[test]
 fn sphere_matches_the_cpu_on_blobtrees() {
     run(&[Method::Sphere], &BLOBTREES, true);
+}
+
+/// The tiled blobtree scenes: name and frame side (tile programs are
+/// built for each frame's camera and size).
+const TILED_BLOBTREES: [(&str, u32); 4] = [
+    ("aggregate-2-smooth", 16),
+    ("aggregate-3", 16),
+    ("aggregate-4", 16),
+    ("aggregate-4-smooth", 8),
+];
+
+/// Tiled blobtrees (`GpuScene::from_tile_programs`: one program per 8 × 8
+/// tile, a workgroup's pixels evaluate their tile's program) against the
+/// CPU twin (`render_tile_programs`, the same programs), every pixel, both
+/// modes, with the thresholds (`tests/tracer_tile_programs.rs`
+/// compares the CPU twin with the full tree). `aggregate-4`, whose full
+/// tree lavapipe's loop limit refuses, renders tiled.
+#[test]
+fn sphere_matches_the_cpu_on_tiled_blobtrees() {
+    let Some(gpu) = gpu() else { return };
+    let mut failures = Vec::new();
+    for (name, size) in TILED_BLOBTREES {
+        let scene = Scene::<f32>::build(name, DEFAULT_SEED).unwrap();
+        let SceneField::Blobtree(tree) = scene.field() else {
+            panic!("{name} is a blobtree")
+        };
+        let camera = Camera::framing(scene.bounds(), [0.3, -0.4, -1.0], 40.0, 1.0).unwrap();
+        let programs = TilePrograms::build(tree, &camera, scene.bounds(), size, size).unwrap();
+        let data = GpuScene::from_tile_programs(&scene, &programs).unwrap();
+        for mode in [Mode::Opaque, Mode::Transparent] {
+            let settings = RenderSettings::new(size, size, Method::Sphere)
+                .unwrap()
+                .with_mode(mode)
+                .with_max_roots(MAX_GPU_ROOTS)
+                .unwrap();
+            let t = std::time::Instant::now();
+            let twin =
+                render_tile_programs(&programs, tree.as_ref(), &camera, scene.bounds(), &settings)
+                    .unwrap();
+            let cpu_s = t.elapsed().as_secs_f64();
+            let t = std::time::Instant::now();
+            let rendered = gpu.render_in_legs(&data, &camera, &settings, 0);
+            let gpu_s = t.elapsed().as_secs_f64();
+            let what = format!(
+                "{name} {mode:?}, tiles of {:.1} nodes on average (max {}, tree {})",
+                programs.mean_nodes(),
+                programs.max_nodes(),
+                tree.len()
+            );
+            match rendered
+                .map_err(|e| e.to_string())
+                .and_then(|(g, d)| compare(&twin, &g).map(|s| format!("{s}; {d} dispatches")))
+            {
+                Ok(s) => eprintln!("ok   tiled {what}: {s}; CPU {cpu_s:.2} s, GPU {gpu_s:.2} s"),
+                Err(s) => {
+                    eprintln!("FAIL tiled {what}: {s}");
+                    failures.push(format!("tiled {what}: {s}"));
+                }
+            }
+        }
+        // A frame of another size is refused.
+        let other = RenderSettings::new(size + 8, size, Method::Sphere).unwrap();
+        assert!(matches!(
+            gpu.render(&data, &camera, &other),
+            Err(GpuError::UnsupportedScene(_))
+        ));
+    }
+    assert!(
+        failures.is_empty(),
+        "GPU/CPU differences:\n{}",
+        failures.join("\n")
+    );
 }
 
 /// Segment tracing (the segment modules' `trace_segment_*` entry points, in legs like

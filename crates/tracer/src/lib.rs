@@ -44,6 +44,7 @@
 //! | [`tiles`] | the tile A-buffer (builder: `alloc`) of blobtree ABVs | synchronized-tracing paper §6.1 |
 //! | [`sync`] | synchronized per-tile ray processing with pruned views (no_std, caller buffers) | synchronized-tracing paper §6.2, Alg. 3 |
 //! | `sync_render` (`std`) | rendering a blobtree by synchronized tracing, timings | synchronized-tracing paper §6, Fig. 20 |
+//! | `tile_programs` (`std`) | one pruned blobtree program per 8 × 8 tile from the A-buffer's tile lists (the GPU's tiled dispatch) and its CPU twin | synchronized-tracing paper §6 |
 //!
 //! # Features
 //! - `std` (default): images, PNG, standard scenes, statistics (implies `alloc`).
@@ -85,6 +86,8 @@ pub mod stats;
 pub mod sync;
 #[cfg(feature = "std")]
 pub mod sync_render;
+#[cfg(feature = "std")]
+pub mod tile_programs;
 pub mod tiles;
 pub mod trace;
 

@@ -508,6 +508,81 @@ pub fn render_serial<T: Real, F: Field<T>>(
     Ok(assemble(*camera, *settings, rows))
 }
 
+/// [`render_serial`] with a field per pixel: pixel `(x, y)` is traced, and
+/// its hits shaded, with `field_of(x, y)` (the settings' method, mode and
+/// parameters), e.g. the program of the pixel's image tile
+/// ([`crate::tile_programs`]).
+///
+/// ```
+/// use boundtrace_tracer::camera::Camera;
+/// use boundtrace_tracer::render::{RenderSettings, render_serial, render_serial_with};
+/// use boundtrace_tracer::Method;
+/// use boundtrace_inclusion::{Field, FieldNum};
+/// struct Ball(f64);
+/// impl Field<f64> for Ball {
+///     fn eval<N: FieldNum<f64>>(&self, p: [N; 3]) -> N {
+///         (p[0].sqr() + p[1].sqr() + p[2].sqr()).sqrt() - self.0
+///     }
+///     fn lipschitz(&self) -> Option<f64> {
+///         Some(1.0)
+///     }
+/// }
+/// let bounds = [[-1.0; 3], [1.0; 3]];
+/// let camera = Camera::framing(bounds, [0.0, 0.0, -1.0], 40.0, 1.0)?;
+/// let settings = RenderSettings::new(8, 8, Method::Sphere)?;
+/// // The left half sees a smaller ball.
+/// let two = render_serial_with(|x, _| Ball(if x < 4 { 0.3 } else { 0.5 }), &camera, bounds, &settings)?;
+/// let one = render_serial(&Ball(0.5), &camera, bounds, &settings)?;
+/// assert_eq!(two.depth(6, 4), one.depth(6, 4));
+/// assert!(two.depth(3, 4) > one.depth(3, 4));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+///
+/// # Errors
+/// Invalid settings or bounds.
+pub fn render_serial_with<T: Real, F: Field<T>, G: Fn(u32, u32) -> F>(
+    field_of: G,
+    camera: &Camera<T>,
+    bounds: [[T; 3]; 2],
+    settings: &RenderSettings<T>,
+) -> Result<Frame<T>, RenderError> {
+    check(&bounds, settings)?;
+    let setup = PixelSetup {
+        camera: *camera,
+        bounds,
+        width: settings.width,
+        height: settings.height,
+        method: settings.method,
+        mode: settings.mode,
+        params: settings.params,
+    };
+    let mut buf = root_buffer(settings);
+    let rows = (0..settings.height)
+        .map(|y| {
+            let mut row = Row {
+                pixels: Vec::with_capacity(settings.width as usize),
+                hits: Vec::new(),
+            };
+            for x in 0..settings.width {
+                let field = field_of(x, y);
+                let tracer = field_tracer(&field, settings);
+                let px = trace_pixel_with(&setup, x, y, buf.len(), |ray, span| {
+                    tracer(ray, span, &mut buf)
+                });
+                for root in &buf[..px.trace.roots as usize] {
+                    row.hits.push(hit_at(&field, &px.ray, root));
+                }
+                row.pixels.push(Pixel {
+                    span: px.span,
+                    trace: px.trace,
+                });
+            }
+            row
+        })
+        .collect();
+    Ok(assemble(*camera, *settings, rows))
+}
+
 pub(crate) fn check<T: Real>(
     bounds: &[[T; 3]; 2],
     settings: &RenderSettings<T>,

@@ -228,49 +228,58 @@ impl Program for BlobtreeRef<'_> {
     }
     /// The node's offset read once, and its 12 floats without a check
     /// each when they all lie in the buffer (a validated tree's do, but
-    /// its last node may have fewer).
+    /// its last node may have fewer): [`floats_at`].
     #[inline]
     fn node_floats(&self, i: usize) -> [f32; 12] {
-        let (nodes, params) = (self.nodes(), self.params());
-        if 2 * i + 1 >= nodes.len() {
-            return [f32::NAN; 12];
-        }
-        let off = nodes[2 * i + 1] as usize;
-        // `off ≤ len / 4` first: `4·off + 12` cannot overflow then.
-        if off <= params.len() / 4 && 4 * off + 12 <= params.len() {
-            let at = 4 * off;
-            let d = |k: usize| params[at + k];
-            [
-                d(0),
-                d(1),
-                d(2),
-                d(3),
-                d(4),
-                d(5),
-                d(6),
-                d(7),
-                d(8),
-                d(9),
-                d(10),
-                d(11),
-            ]
+        let nodes = self.nodes();
+        if 2 * i + 1 < nodes.len() {
+            floats_at(self.params(), nodes[2 * i + 1])
         } else {
-            let g = |k: usize| param_at(params, off as u32, k);
-            [
-                g(0),
-                g(1),
-                g(2),
-                g(3),
-                g(4),
-                g(5),
-                g(6),
-                g(7),
-                g(8),
-                g(9),
-                g(10),
-                g(11),
-            ]
+            [f32::NAN; 12]
         }
+    }
+}
+
+/// The 12 parameter floats from `offset` (128-bit units) in `params`,
+/// [`param_at`] of each, without a check each when all 12 lie in the
+/// buffer.
+#[inline]
+fn floats_at(params: &[f32], offset: u32) -> [f32; 12] {
+    let off = offset as usize;
+    // `off ≤ len / 4` first: `4·off + 12` cannot overflow then.
+    if off <= params.len() / 4 && 4 * off + 12 <= params.len() {
+        let at = 4 * off;
+        let d = |k: usize| params[at + k];
+        [
+            d(0),
+            d(1),
+            d(2),
+            d(3),
+            d(4),
+            d(5),
+            d(6),
+            d(7),
+            d(8),
+            d(9),
+            d(10),
+            d(11),
+        ]
+    } else {
+        let g = |k: usize| param_at(params, offset, k);
+        [
+            g(0),
+            g(1),
+            g(2),
+            g(3),
+            g(4),
+            g(5),
+            g(6),
+            g(7),
+            g(8),
+            g(9),
+            g(10),
+            g(11),
+        ]
     }
 }
 
@@ -456,6 +465,197 @@ impl<T: Real, K: PrimitiveKinds> Field<T> for BlobtreeAmong<'_, K> {
 
     fn lipschitz(&self) -> Option<T> {
         self.tree.lipschitz_bound()
+    }
+}
+
+/// Words per tile in the table that opens a tiled program buffer
+/// ([`BlobtreeWindow::tile`]): the tile's first node, its node count and
+/// the bits of its `f32` Lipschitz bound.
+pub const TILE_TABLE_WORDS: usize = 3;
+
+/// A post-order program that is a window of nodes of a larger node buffer,
+/// with its own Lipschitz bound: the whole tree, or the program of one
+/// image tile in a tiled buffer (a table of [`TILE_TABLE_WORDS`] words per
+/// tile, then the tiles' node pairs `(word, parameter offset)`, the
+/// offsets into the tree's own parameter buffer). The GPU shader's
+/// blobtree field: one type for both, so that the shader holds the tracer
+/// once. Primitives of kinds outside `K` evaluate to NaN
+/// ([`BlobtreeAmong`]).
+///
+/// An empty window (a tile no primitive's ABV reaches) is the constant
+/// largest finite value (no surface; a sparse evaluation without a root,
+/// [`BlobtreeRef::eval_sparse`], gives `+∞`, which an interval cannot
+/// hold as a point: a tracer would see an empty enclosure). Data the host
+/// did not validate gives NaN values, never a panic or a read out of
+/// bounds.
+///
+/// ```
+/// use boundtrace_fields::blobtree::{BlobtreeWindow, FlatBlobtree, Node, TILE_TABLE_WORDS};
+/// use boundtrace_fields::{AllPrimitives, Operator, Primitive};
+/// use boundtrace_inclusion::Field;
+/// let s = |x: f64| Node::primitive(Primitive::sphere([x, 0.0, 0.0], 0.3).unwrap());
+/// let tree = FlatBlobtree::from_node(&Node::op(Operator::union(), s(-0.5), s(0.5)))?;
+/// let t = tree.as_ref();
+/// let whole = BlobtreeWindow::<AllPrimitives>::whole(t, 1.0);
+/// assert_eq!(whole.eval([0.5f32, 0.0, 0.0]), t.eval([0.5f32, 0.0, 0.0]));
+/// // Two tiles: the first sees the right sphere alone (node 1), the second nothing.
+/// let n = t.nodes();
+/// // Pair 3 (words 6, 7) is the first after the table.
+/// let mut words = vec![3, 1, 1.0f32.to_bits(), 4, 0, 1.0f32.to_bits()];
+/// words.extend_from_slice(&n[2..4]);
+/// assert_eq!(words.len(), 2 * TILE_TABLE_WORDS + 2);
+/// let right = BlobtreeWindow::<AllPrimitives>::tile(&words, t.params(), 0);
+/// let p = [0.6f32, 0.0, 0.0];
+/// assert_eq!(right.eval(p), t.eval(p));
+/// assert_eq!(right.lipschitz(), Some(1.0));
+/// let empty = BlobtreeWindow::<AllPrimitives>::tile(&words, t.params(), 1);
+/// assert_eq!(empty.eval(p), f32::MAX);
+/// // No such tile: NaN.
+/// assert!(BlobtreeWindow::<AllPrimitives>::tile(&words, t.params(), 2).eval(p).is_nan());
+/// # Ok::<(), boundtrace_fields::FieldError>(())
+/// ```
+#[derive(Clone, Copy, Debug)]
+pub struct BlobtreeWindow<'a, K> {
+    nodes: &'a [u32],
+    params: &'a [f32],
+    /// The first node (pair index into `nodes`).
+    first: usize,
+    /// The node count.
+    len: usize,
+    /// The Lipschitz bound (`≤ 0` or NaN: the program's own).
+    lipschitz: f32,
+    /// Whether the window's table entry was readable.
+    valid: bool,
+    _kinds: core::marker::PhantomData<K>,
+}
+
+impl<'a, K: PrimitiveKinds> BlobtreeWindow<'a, K> {
+    /// The whole tree, with the Lipschitz bound `lipschitz` (`≤ 0` or NaN:
+    /// [`BlobtreeRef::lipschitz_bound`], computed at every call).
+    #[inline]
+    pub fn whole(tree: BlobtreeRef<'a>, lipschitz: f32) -> Self {
+        Self {
+            nodes: tree.nodes(),
+            params: tree.params(),
+            first: 0,
+            len: tree.len(),
+            lipschitz,
+            valid: true,
+            _kinds: core::marker::PhantomData,
+        }
+    }
+
+    /// Tile `tile` of the tiled buffer `words` (type docs), whose node
+    /// pairs' offsets point into `params`. A tile past the table, or a
+    /// window past the buffer, evaluates to NaN.
+    #[inline]
+    pub fn tile(words: &'a [u32], params: &'a [f32], tile: usize) -> Self {
+        let at = tile.wrapping_mul(TILE_TABLE_WORDS);
+        let valid = tile < words.len() / TILE_TABLE_WORDS;
+        let (first, len, bits) = if valid {
+            (words[at] as usize, words[at + 1] as usize, words[at + 2])
+        } else {
+            (0, 0, 0)
+        };
+        Self {
+            nodes: words,
+            params,
+            first,
+            len,
+            lipschitz: f32::from_bits(bits),
+            valid,
+            _kinds: core::marker::PhantomData,
+        }
+    }
+
+    /// The number of nodes.
+    #[inline]
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Whether the window has no node (a constant: no surface).
+    #[inline]
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// The Lipschitz bound of the window's program computed from its
+    /// nodes ([`BlobtreeRef::lipschitz_bound`] for the whole tree); `None`
+    /// for data validation excludes. An empty window (a constant) gives
+    /// `1`: any positive bound holds, and a tracer needs one.
+    pub fn program_lipschitz<T: Real>(&self) -> Option<T> {
+        if !self.valid {
+            return None;
+        }
+        if self.len == 0 {
+            return Some(T::ONE);
+        }
+        lipschitz_program::<T, Self, STACK_CAPACITY>(self)
+    }
+
+    /// The node pair index of node `i`, if inside the window and buffer.
+    #[inline]
+    fn pair(&self, i: usize) -> Option<usize> {
+        // `first ≤ len(nodes) / 2` keeps `first + i` from overflowing.
+        if !self.valid || i >= self.len || self.first > self.nodes.len() / 2 {
+            return None;
+        }
+        let j = self.first + i;
+        if 2 * j + 1 < self.nodes.len() {
+            Some(j)
+        } else {
+            None
+        }
+    }
+}
+
+impl<K: PrimitiveKinds> Program for BlobtreeWindow<'_, K> {
+    #[inline]
+    fn node_count(&self) -> usize {
+        self.len
+    }
+    // A `match`, not `Option::map` with a closure: rust-gpu cannot build
+    // closures that capture pointers.
+    #[allow(clippy::manual_map)]
+    #[inline]
+    fn node_word(&self, i: usize) -> Option<NodeWord> {
+        match self.pair(i) {
+            Some(j) => Some(NodeWord(self.nodes[2 * j])),
+            None => None,
+        }
+    }
+    #[inline]
+    fn param(&self, i: usize, k: usize) -> f32 {
+        match self.pair(i) {
+            Some(j) => param_at(self.params, self.nodes[2 * j + 1], k),
+            None => f32::NAN,
+        }
+    }
+    #[inline]
+    fn node_floats(&self, i: usize) -> [f32; 12] {
+        match self.pair(i) {
+            Some(j) => floats_at(self.params, self.nodes[2 * j + 1]),
+            None => [f32::NAN; 12],
+        }
+    }
+}
+
+impl<T: Real, K: PrimitiveKinds> Field<T> for BlobtreeWindow<'_, K> {
+    #[inline]
+    fn eval<N: FieldNum<T>>(&self, p: [N; 3]) -> N {
+        if self.valid && self.len == 0 {
+            return N::constant(T::MAX);
+        }
+        eval_program::<T, N, Self, K, STACK_CAPACITY>(self, p)
+    }
+
+    fn lipschitz(&self) -> Option<T> {
+        if self.lipschitz > 0.0 && self.lipschitz.is_finite() {
+            Some(T::from_f64(self.lipschitz as f64))
+        } else {
+            self.program_lipschitz()
+        }
     }
 }
 

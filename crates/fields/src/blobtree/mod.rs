@@ -158,7 +158,7 @@ pub use encoding::{
     BlobtreeRef, MAX_NODES, NO_ANCESTOR, NodeWord, STACK_CAPACITY, class_code, class_from_code,
     passes,
 };
-pub use eval::BlobtreeAmong;
+pub use eval::{BlobtreeAmong, BlobtreeWindow, TILE_TABLE_WORDS};
 #[cfg(feature = "alloc")]
 pub use roi::{Abv, Roi};
 pub use traversal::{SparseVisitor, TRAVERSAL_STACK, sparse_traverse};
