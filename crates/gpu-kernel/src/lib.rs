@@ -81,7 +81,9 @@ pub const GUARD_LOOPS: u32 = 2;
 #[repr(u32)]
 pub enum SceneKind {
     /// A flat blobtree: node words in the `u32` buffer, parameters in the
-    /// `f32` buffer ([`BlobtreeRef::new`] validates them).
+    /// `f32` buffer ([`BlobtreeRef::new`] validates them); or, when
+    /// [`Constants::groups`] is not `0`, one program per 8 × 8 tile in the
+    /// `u32` buffer ([`BlobtreeWindow::tile`]) over the same parameters.
     Blobtree = 0,
     /// One summed blob set over the blob buffer, with [`Constants::iso`].
     Blobs = 1,

@@ -462,8 +462,6 @@ impl GpuScene {
         Ok(s)
     }
 
-    /// The frame constants the shader reads for this scene, `camera` and
-    /// `settings`, with `slots` root slots per pixel (no leg limit).
     /// The tiled flat data of a blobtree scene: one program per 8 × 8
     /// tile ([`TilePrograms`], built from this scene's tree for the camera
     /// and image size of the frames to render), so that the pixels of a
@@ -520,6 +518,8 @@ impl GpuScene {
         self.tiles
     }
 
+    /// The frame constants the shader reads for this scene, `camera` and
+    /// `settings`, with `slots` root slots per pixel (no leg limit).
     fn constants(
         &self,
         camera: &Camera<f32>,
