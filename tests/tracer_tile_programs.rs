@@ -123,3 +123,51 @@ fn tile_programs_refuse_another_image_size() {
         Err(TileProgramError::Tiles(_))
     ));
 }
+
+/// Each tile's Lipschitz bound (computed in `f32` from its program when
+/// the programs are built) holds between sampled points of the scene
+/// box, for the tile's field, within `f32` rounding of the bound.
+#[test]
+fn tile_lipschitz_bounds_hold_between_sampled_points() {
+    use boundtrace::inclusion::Field;
+    let mut state = 0x7153_u64;
+    let mut unit = move || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut checked = 0;
+    for name in ["aggregate-2", "aggregate-2-smooth", "aggregate-3"] {
+        let scene: Scene<f64> = Scene::build(name, DEFAULT_SEED).unwrap();
+        let flat = tree(&scene);
+        let [lo, hi] = scene.bounds();
+        let camera = Camera::framing([lo, hi], [-0.3, -0.4, -1.0], 40.0, 1.0).unwrap();
+        let programs = TilePrograms::build(flat, &camera, [lo, hi], 24, 24).unwrap();
+        for ty in 0..3 {
+            for tx in 0..3 {
+                let f = programs.field(flat.params(), tx * 8, ty * 8);
+                if f.is_empty() {
+                    continue;
+                }
+                let l: f64 = f.lipschitz().unwrap();
+                assert!(l > 0.0 && l.is_finite(), "{name} tile ({tx}, {ty}): {l}");
+                for _ in 0..200 {
+                    let p = [0, 1, 2].map(|k| lo[k] + unit() * (hi[k] - lo[k]));
+                    let d = [0, 1, 2].map(|_| (unit() - 0.5) * 0.04);
+                    let q = [0, 1, 2].map(|k| p[k] + d[k]);
+                    let (fp, fq): (f64, f64) = (f.eval(p), f.eval(q));
+                    let dist = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+                    assert!(
+                        (fp - fq).abs() <= l * dist * (1.0 + 1e-6) + 1e-12,
+                        "{name} tile ({tx}, {ty}): |Δf| = {} > L·|Δp| = {}",
+                        (fp - fq).abs(),
+                        l * dist
+                    );
+                    checked += 1;
+                }
+            }
+        }
+    }
+    assert!(checked >= 2000, "{checked}");
+}
