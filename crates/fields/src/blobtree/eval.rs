@@ -30,26 +30,10 @@ pub(crate) trait Program {
     /// Parameter float `k` of node `i` (NaN out of range).
     fn param(&self, i: usize, k: usize) -> f32;
     /// The 12 parameter floats a node can have (3 slots of 4) of node
-    /// `i`, `param(i, 0..12)`. Written out, not a loop: a GPU driver with
-    /// a loop limit (lavapipe) counts every loop iteration, and this runs
-    /// per primitive and evaluation.
+    /// `i`, `param(i, 0..12)` ([`twelve`]: no loop).
     #[inline]
     fn node_floats(&self, i: usize) -> [f32; 12] {
-        let g = |k: usize| self.param(i, k);
-        [
-            g(0),
-            g(1),
-            g(2),
-            g(3),
-            g(4),
-            g(5),
-            g(6),
-            g(7),
-            g(8),
-            g(9),
-            g(10),
-            g(11),
-        ]
+        twelve(|k| self.param(i, k))
     }
 }
 
@@ -244,43 +228,36 @@ impl Program for BlobtreeRef<'_> {
 /// [`param_at`] of each, without a check each when all 12 lie in the
 /// buffer.
 #[inline]
-fn floats_at(params: &[f32], offset: u32) -> [f32; 12] {
+pub(crate) fn floats_at(params: &[f32], offset: u32) -> [f32; 12] {
     let off = offset as usize;
     // `off ≤ len / 4` first: `4·off + 12` cannot overflow then.
     if off <= params.len() / 4 && 4 * off + 12 <= params.len() {
         let at = 4 * off;
-        let d = |k: usize| params[at + k];
-        [
-            d(0),
-            d(1),
-            d(2),
-            d(3),
-            d(4),
-            d(5),
-            d(6),
-            d(7),
-            d(8),
-            d(9),
-            d(10),
-            d(11),
-        ]
+        twelve(|k| params[at + k])
     } else {
-        let g = |k: usize| param_at(params, offset, k);
-        [
-            g(0),
-            g(1),
-            g(2),
-            g(3),
-            g(4),
-            g(5),
-            g(6),
-            g(7),
-            g(8),
-            g(9),
-            g(10),
-            g(11),
-        ]
+        twelve(|k| param_at(params, offset, k))
     }
+}
+
+/// `[f(0), …, f(11)]`: a node's parameter floats, written out, not a
+/// loop (a GPU driver with a loop limit, lavapipe, counts every loop
+/// iteration, and this runs per primitive and evaluation).
+#[inline]
+pub(crate) fn twelve<F: Fn(usize) -> f32>(f: F) -> [f32; 12] {
+    [
+        f(0),
+        f(1),
+        f(2),
+        f(3),
+        f(4),
+        f(5),
+        f(6),
+        f(7),
+        f(8),
+        f(9),
+        f(10),
+        f(11),
+    ]
 }
 
 impl<'a> BlobtreeRef<'a> {

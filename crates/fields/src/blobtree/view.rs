@@ -1,7 +1,7 @@
 //! Pruned tree views (paper §6.2, Fig. 11, Alg. 4).
 
 use super::encoding::{BlobtreeRef, NodeWord};
-use super::eval::{Program, eval_program, lipschitz_program, param_at};
+use super::eval::{Program, eval_program, floats_at, lipschitz_program, param_at, twelve};
 use super::traversal::{SparseVisitor, sparse_traverse};
 use crate::FieldError;
 use crate::sdf::AllPrimitives;
@@ -274,64 +274,19 @@ impl<const V: usize, const D: usize, const S: usize> Program for PrunedView<'_, 
             None => f32::NAN,
         }
     }
-    /// The node's offset read once ([`Program::node_floats`] of the full
-    /// tree for a global one; the cache's 12 floats without a check each
-    /// when they all lie in it).
+    /// The node's offset read once ([`floats_at`] for a node read from
+    /// the full tree; the cache's 12 floats without a check each when they
+    /// all lie in it).
     #[inline]
     fn node_floats(&self, i: usize) -> [f32; 12] {
         match self.offset.get(i) {
-            Some(&off) if off & GLOBAL != 0 => {
-                let g = |k: usize| param_at(self.tree.params(), off & !GLOBAL, k);
-                [
-                    g(0),
-                    g(1),
-                    g(2),
-                    g(3),
-                    g(4),
-                    g(5),
-                    g(6),
-                    g(7),
-                    g(8),
-                    g(9),
-                    g(10),
-                    g(11),
-                ]
-            }
+            Some(&off) if off & GLOBAL != 0 => floats_at(self.tree.params(), off & !GLOBAL),
             Some(&off) => {
-                let at = off as usize;
-                let c = &self.cache;
-                let g = |k: usize| c.get(at + k).copied().unwrap_or(f32::NAN);
+                let (at, c) = (off as usize, &self.cache);
                 if at + 12 <= c.len() {
-                    let d = |k: usize| c[at + k];
-                    [
-                        d(0),
-                        d(1),
-                        d(2),
-                        d(3),
-                        d(4),
-                        d(5),
-                        d(6),
-                        d(7),
-                        d(8),
-                        d(9),
-                        d(10),
-                        d(11),
-                    ]
+                    twelve(|k| c[at + k])
                 } else {
-                    [
-                        g(0),
-                        g(1),
-                        g(2),
-                        g(3),
-                        g(4),
-                        g(5),
-                        g(6),
-                        g(7),
-                        g(8),
-                        g(9),
-                        g(10),
-                        g(11),
-                    ]
+                    twelve(|k| c.get(at + k).copied().unwrap_or(f32::NAN))
                 }
             }
             None => [f32::NAN; 12],
