@@ -94,12 +94,13 @@ pub trait Real: num_traits::Float + Math + 'static {
     /// same order), then `1 / p` for `n < 0`. Plain-float and jet field
     /// evaluations use it.
     ///
-    /// On CPUs it is [`num_traits::Float::powi`]. On SPIR-V it is
-    /// [`round::powi_unrolled`](crate::round::powi_unrolled), without a
-    /// loop for `|n| < 16`: llvmpipe runs every loop of a shader at least
-    /// once, taken or not, and caps an invocation's loop iterations at
-    /// 65,535 in all, so a power loop in a blobtree's operator code costs
-    /// iterations at every node (BENCHMARKS.md "GPU", session 24).
+    /// It is [`round::powi_unrolled`](crate::round::powi_unrolled) on
+    /// every target, so CPUs with or without `std` and GPUs agree bit for
+    /// bit; without a loop for `|n| < 16`: llvmpipe runs every loop of a
+    /// shader at least once, taken or not, and caps an invocation's loop
+    /// iterations at 65,535 in all, so a power loop in a blobtree's
+    /// operator code costs iterations at every node (BENCHMARKS.md "GPU",
+    /// session 24).
     ///
     /// ```
     /// use boundtrace_ia_core::Real;
@@ -108,14 +109,7 @@ pub trait Real: num_traits::Float + Math + 'static {
     /// ```
     #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn powi_std(self, n: i32) -> Self {
-        #[cfg(not(target_arch = "spirv"))]
-        {
-            num_traits::Float::powi(self, n)
-        }
-        #[cfg(target_arch = "spirv")]
-        {
-            crate::round::powi_unrolled(self, n)
-        }
+        crate::round::powi_unrolled(self, n)
     }
 }
 

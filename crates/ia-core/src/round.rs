@@ -219,9 +219,10 @@ fn pow_bit<T: Real>(state: (T, T, bool), n: u32, k: u32, up: bool) -> (T, T, boo
 /// ([`Math::m_div`](crate::Real), correctly rounded on SPIR-V too) for
 /// `n < 0` — the products and order of the standard library's `powi`
 /// (compiler-rt's `__powisf2` / `__powidf2`, and LLVM's expansion of a
-/// constant exponent), so the same bits. `|n| ≥ 16` falls back to
-/// [`num_traits::Float::powi`] (a loop). [`Real::powi_std`] uses it on
-/// SPIR-V; exposed for the tests that compare both on the CPU.
+/// constant exponent), so the same bits. `|n| ≥ 16` runs the same
+/// powering in a loop. [`Real::powi_std`] is this function on every
+/// target (num-traits' `powi` without `std` inverts before powering,
+/// which rounds differently for `n < 0`).
 ///
 /// ```
 /// use boundtrace_ia_core::round::powi_unrolled;
@@ -233,7 +234,7 @@ fn pow_bit<T: Real>(state: (T, T, bool), n: u32, k: u32, up: bool) -> (T, T, boo
 pub fn powi_unrolled<T: Real>(x: T, n: i32) -> T {
     let m = n.unsigned_abs();
     if m >= 16 {
-        return num_traits::Float::powi(x, n);
+        return powi_loop(x, n);
     }
     if m == 0 {
         return T::ONE;
@@ -244,6 +245,26 @@ pub fn powi_unrolled<T: Real>(x: T, n: i32) -> T {
     let s = powi_bit(s, m, 2);
     let s = powi_bit(s, m, 3);
     if n < 0 { T::ONE.m_div(s.1) } else { s.1 }
+}
+
+/// [`powi_unrolled`] for any `n`, in a loop: compiler-rt's `__powisf2`
+/// order (`r = 1`, then `r·a` for each set bit from the lowest, `a`
+/// squared between bits; `1 / r` for `n < 0`).
+#[cfg_attr(not(target_arch = "spirv"), inline)]
+fn powi_loop<T: Real>(x: T, n: i32) -> T {
+    let mut m = n.unsigned_abs();
+    let (mut base, mut r) = (x, T::ONE);
+    loop {
+        if m & 1 == 1 {
+            r = r * base;
+        }
+        m >>= 1;
+        if m == 0 {
+            break;
+        }
+        base = base * base;
+    }
+    if n < 0 { T::ONE.m_div(r) } else { r }
 }
 
 /// [`pow_bit`] with round-to-nearest products, for [`powi_unrolled`].
@@ -311,7 +332,11 @@ mod tests {
         fn same<T: Real + core::fmt::Debug>(a: T, b: T) -> bool {
             (a.is_nan() && b.is_nan()) || a.as_f64().to_bits() == b.as_f64().to_bits()
         }
-        let mut xs64 = vec![
+        // Special values, then many significands (where the products'
+        // roundings differ by order). No `Vec`: the crate's tests also run
+        // without `std`.
+        let mut xs64 = [0.0f64; 216];
+        let special = [
             0.0f64,
             -0.0,
             1e-310,
@@ -329,13 +354,13 @@ mod tests {
             f64::NEG_INFINITY,
             f64::NAN,
         ];
-        // Many significands: where the products' roundings differ by order.
+        xs64[..16].copy_from_slice(&special);
         let mut v = 0.123_456_789_f64;
-        for _ in 0..200 {
+        for x in &mut xs64[16..] {
             v = (v * 3.7 + 0.31) % 5.0 - 2.5;
-            xs64.push(v);
+            *x = v;
         }
-        let ns = (-15..16).chain([16, -16, 17, 31, -40]);
+        let ns = (-15..16).chain([16, -16, 17, 31, -40, i32::MIN]);
         for n in ns {
             for &x in &xs64 {
                 let (a, b) = (powi_unrolled(x, n), x.powi(n));
