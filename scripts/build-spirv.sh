@@ -28,13 +28,32 @@ target=${CARGO_TARGET_DIR:-$root/target}
 case "$target" in /*) ;; *) target="$root/$target" ;; esac
 out="$target/spirv/boundtrace-gpu-shader.spv"
 
+# With BOUNDTRACE_SPIRV_READY=DIR (scripts/test.sh), the GPU tests run while
+# the later modules build: the modules of an earlier build are removed first
+# (a test's tracer loads every module present, and a stale one may have
+# another layout), and an empty file DIR/NAME.spv marks each module once it
+# is written (the builder renames a finished copy into place).
+ready=${BOUNDTRACE_SPIRV_READY:-}
+if [ -n "$ready" ]; then
+    mkdir -p "$ready"
+    rm -f "$target"/spirv/boundtrace-gpu-shader*.spv
+fi
+
+# Builds one module: `module FEATURES PATH` (FEATURES empty: the shader
+# crate's default features). `cargo run` puts the codegen backend
+# (librustc_codegen_spirv.so) and the nightly's rustc libraries on the
+# library path; the nested shader build gets its own target dir.
+module() {
+    local features=$1 path=$2
+    (cd crates/gpu-builder &&
+        if [ -n "$features" ]; then export BOUNDTRACE_SHADER_FEATURES=$features; fi &&
+        CARGO_TARGET_DIR="$target/spirv-builder" cargo +"$toolchain" run --release --locked -q -- \
+            "$path" "$target/spirv-shader")
+    if [ -n "$ready" ]; then : >"$ready/$(basename "$path")"; fi
+}
+
 echo "==> building the SPIR-V builder (cached in $target/spirv-builder) and compiling crates/gpu-shader"
-# `cargo run` puts the codegen backend (librustc_codegen_spirv.so) and the
-# nightly's rustc libraries on the library path; the nested shader build gets
-# its own target dir.
-(cd crates/gpu-builder &&
-    CARGO_TARGET_DIR="$target/spirv-builder" cargo +"$toolchain" run --release --locked -q -- \
-        "$out" "$target/spirv-shader")
+module "${BOUNDTRACE_SHADER_FEATURES:-}" "$out"
 
 # The leg modules of segment tracing and the forward Taylor methods, one
 # per method and blob scene kind: spirv-opt runs out of memory on segment
@@ -46,15 +65,9 @@ if [ -z "${BOUNDTRACE_SHADER_FEATURES:-}" ]; then
     for method in segment linear-taylor quadratic-taylor; do
         for kind in blobs groups; do
             echo "==> compiling the $method module for $kind"
-            (cd crates/gpu-builder &&
-                BOUNDTRACE_SHADER_FEATURES=$method-$kind CARGO_TARGET_DIR="$target/spirv-builder" \
-                    cargo +"$toolchain" run --release --locked -q -- \
-                    "${out%.spv}-$method-$kind.spv" "$target/spirv-shader")
+            module "$method-$kind" "${out%.spv}-$method-$kind.spv"
         done
     done
     echo "==> compiling the sphere module for blobtrees"
-    (cd crates/gpu-builder &&
-        BOUNDTRACE_SHADER_FEATURES=sphere-blobtree CARGO_TARGET_DIR="$target/spirv-builder" \
-            cargo +"$toolchain" run --release --locked -q -- \
-            "${out%.spv}-sphere-blobtree.spv" "$target/spirv-shader")
+    module sphere-blobtree "${out%.spv}-sphere-blobtree.spv"
 fi

@@ -17,23 +17,55 @@ rustup target add thumbv7em-none-eabihf >/dev/null
 step "pinned nightly for rust-gpu and cargo-fuzz (installed when missing)"
 scripts/nightly.sh >/dev/null
 
-# The GPU preparation (lavapipe when no Vulkan driver, and the seven
-# SPIR-V modules: ~48 min cold on 2 cores, mostly one core at a time, with
-# brief peaks of ~16 GB) runs in the background from here, while the
-# CPU-only steps below run beside it on one cargo job (so that the two fit
-# in memory); the GPU tests run once it is done, and its log is printed
-# then. On a cold machine the SPIR-V build and the GPU tests are the
-# critical path; the other steps cost no wall time.
+# The GPU preparation (lavapipe when no Vulkan driver, and the eight
+# SPIR-V modules: ~50 min cold on 2 cores, one core at a time, with brief
+# peaks of ~16 GB) runs in the background from here, while the CPU-only
+# steps below run beside it on one cargo job (so that the two fit in
+# memory). Once those are done, each GPU test runs as soon as the modules
+# it needs are built (scripts/build-spirv.sh marks each one in
+# $BOUNDTRACE_SPIRV_READY), on the core the module builds leave free; the
+# build log is printed once the last module is built.
 gpu_log=$(mktemp "${TMPDIR:-/tmp}/boundtrace-gpu-build.XXXXXX")
+BOUNDTRACE_SPIRV_READY=$(mktemp -d "${TMPDIR:-/tmp}/boundtrace-spirv-ready.XXXXXX")
+export BOUNDTRACE_SPIRV_READY
 step "GPU: Vulkan driver (lavapipe when none) and the SPIR-V modules (rust-gpu), in the background (log: $gpu_log)"
 scripts/gpu-test.sh >"$gpu_log" 2>&1 &
 gpu_pid=$!
+gpu_status=
 kill_tree() {
     local child
     for child in $(pgrep -P "$1" 2>/dev/null); do kill_tree "$child"; done
     kill "$1" 2>/dev/null || true
 }
 trap 'kill_tree "$gpu_pid"' EXIT
+# Fails the run with the build log when the GPU preparation failed; sets
+# gpu_status once it has ended.
+gpu_reap() {
+    if [ -z "$gpu_status" ] && ! kill -0 "$gpu_pid" 2>/dev/null; then
+        gpu_status=0
+        wait "$gpu_pid" || gpu_status=$?
+    fi
+    if [ -n "$gpu_status" ] && [ "$gpu_status" != 0 ]; then
+        cat "$gpu_log"
+        echo "GPU preparation (scripts/gpu-test.sh) failed (status $gpu_status)" >&2
+        exit 1
+    fi
+}
+# Waits until the named modules (file names under target/spirv) are built.
+wait_modules() {
+    local m
+    for m in "$@"; do
+        until [ -e "$BOUNDTRACE_SPIRV_READY/$m" ]; do
+            gpu_reap
+            if [ -n "$gpu_status" ] && [ ! -e "$BOUNDTRACE_SPIRV_READY/$m" ]; then
+                cat "$gpu_log"
+                echo "GPU preparation ended without building $m" >&2
+                exit 1
+            fi
+            sleep 5
+        done
+    done
+}
 cpu_jobs=${CARGO_BUILD_JOBS:-}
 export CARGO_BUILD_JOBS=1
 
@@ -73,15 +105,6 @@ cargo test --manifest-path fuzz/Cargo.toml --release
 step "fuzz targets: ${FUZZ_SECONDS:-20} s each under libFuzzer (installs the pinned nightly and cargo-fuzz)"
 ./scripts/fuzz.sh "${FUZZ_SECONDS:-20}"
 
-step "waiting for the GPU preparation"
-if ! wait "$gpu_pid"; then
-    cat "$gpu_log"
-    echo "GPU preparation (scripts/gpu-test.sh) failed" >&2
-    exit 1
-fi
-trap - EXIT
-cat "$gpu_log"
-rm -f "$gpu_log"
 if [ -n "$cpu_jobs" ]; then export CARGO_BUILD_JOBS=$cpu_jobs; else unset CARGO_BUILD_JOBS; fi
 
 # lavapipe wants a runtime dir.
@@ -90,8 +113,54 @@ if [ -z "${XDG_RUNTIME_DIR:-}" ]; then
     mkdir -p "$XDG_RUNTIME_DIR" && chmod 0700 "$XDG_RUNTIME_DIR"
 fi
 
-step "cargo test -p boundtrace-gpu (GPU difftests and probes: they fail, never skip, with CI=true)"
-cargo test -p boundtrace-gpu
+# The GPU tests (they fail, never skip, with CI=true), each group once its
+# modules are built; the last step runs every test of the crate not run
+# before (so a new test cannot be left out).
+step "GPU tests: building them while the SPIR-V modules build"
+cargo test -p boundtrace-gpu --no-run
+cargo test -p boundtrace-cli --features gpu --test cli --no-run
+done_tests=()
+# `gpu_tests "MODULES" TESTS…`: waits for the modules, runs the difftests
+# named (exactly).
+gpu_tests() {
+    local modules=$1
+    shift
+    # shellcheck disable=SC2086 # a list of file names
+    wait_modules $modules
+    step "GPU difftests $* (modules: $modules)"
+    local out
+    out=$(mktemp "${TMPDIR:-/tmp}/boundtrace-gpu-tests.XXXXXX")
+    cargo test -p boundtrace-gpu --test difftest -- --exact "$@" 2>&1 | tee "$out"
+    # A name that matches no test would pass silently.
+    if ! grep -q "test result: ok. $# passed" "$out"; then
+        echo "expected $# difftests to pass: $*" >&2
+        exit 1
+    fi
+    rm -f "$out"
+    done_tests+=("$@")
+}
+m=boundtrace-gpu-shader
+gpu_tests "$m.spv" sphere_matches_the_cpu_in_both_modes
+gpu_tests "$m-segment-blobs.spv $m-segment-groups.spv" segment_matches_the_cpu_in_both_modes
+gpu_tests "$m-linear-taylor-blobs.spv $m-linear-taylor-groups.spv" \
+    linear_taylor_matches_the_cpu_in_both_modes
+gpu_tests "$m-quadratic-taylor-blobs.spv $m-quadratic-taylor-groups.spv" \
+    quadratic_taylor_matches_the_cpu_in_both_modes
+gpu_tests "$m-sphere-blobtree.spv" sphere_matches_the_cpu_on_blobtrees_whole_and_tiled
+
+step "waiting for the GPU preparation"
+until [ -n "$gpu_status" ]; do
+    gpu_reap
+    sleep 2
+done
+trap - EXIT
+cat "$gpu_log"
+rm -rf "$gpu_log" "$BOUNDTRACE_SPIRV_READY"
+
+step "cargo test -p boundtrace-gpu: every other test (unit tests, probes, the rest of the difftests)"
+skips=()
+for t in "${done_tests[@]}"; do skips+=(--skip "$t"); done
+cargo test -p boundtrace-gpu -- --exact "${skips[@]}"
 
 step "boundtrace render --backend gpu (sphere tracing on the GPU; fails, never skips, with CI=true)"
 cargo test -p boundtrace-cli --features gpu --test cli gpu_backend

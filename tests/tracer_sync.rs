@@ -12,52 +12,15 @@
 
 use boundtrace::fields::blobtree::FlatBlobtree;
 use boundtrace::tracer::camera::Camera;
-use boundtrace::tracer::render::{Frame, RenderSettings, render};
+use boundtrace::tracer::render::{RenderSettings, render};
 use boundtrace::tracer::scenes::{DEFAULT_SEED, NAMES, Scene, SceneField};
 use boundtrace::tracer::sync_render::{SyncSettings, render_sync};
 use boundtrace::tracer::{Method, Mode};
 use std::time::Instant;
 
-/// Asserts `a` (synchronized) equals `b` (full tree) within the issue's
-/// tolerances; returns the number of hit pixels.
-fn assert_same(a: &Frame<f64>, b: &Frame<f64>, what: &str) -> usize {
-    let mut hits = 0;
-    for y in 0..a.height() {
-        for x in 0..a.width() {
-            let (ha, hb) = (a.hits(x, y), b.hits(x, y));
-            assert_eq!(
-                ha.len(),
-                hb.len(),
-                "{what}: pixel ({x}, {y}) roots {ha:?} vs full {hb:?}"
-            );
-            for (p, q) in ha.iter().zip(hb) {
-                hits += 1;
-                assert_eq!(p.side, q.side, "{what}: pixel ({x}, {y})");
-                assert!(
-                    (p.t - q.t).abs() <= 1e-4 * q.t.abs(),
-                    "{what}: pixel ({x}, {y}) depth {} vs full {}",
-                    p.t,
-                    q.t
-                );
-                let dot: f64 = (0..3).map(|i| p.normal[i] * q.normal[i]).sum();
-                assert!(
-                    dot > 0.999,
-                    "{what}: pixel ({x}, {y}) normals {p:?} vs {q:?}"
-                );
-            }
-            let (sa, sb) = (a.pixel(x, y).unwrap(), b.pixel(x, y).unwrap());
-            assert_eq!(sa.trace.status, sb.trace.status, "{what}: pixel ({x}, {y})");
-        }
-    }
-    hits
-}
-
-fn tree(scene: &Scene<f64>) -> &FlatBlobtree {
-    match scene.field() {
-        SceneField::Blobtree(t) => t,
-        _ => unreachable!("not a blobtree scene"),
-    }
-}
+#[path = "common/frames.rs"]
+mod frames;
+use frames::{assert_same, tree};
 
 /// Renders `name` both ways at `size²` pixels through a camera of vertical
 /// field of view `fov` (degrees) looking at the scene's centre, with 4×4

@@ -4,53 +4,15 @@
 //! `1e-4` relative, the same normals, the same trace status, by sphere
 //! tracing in both modes; and the programs are smaller than the tree.
 
-use boundtrace::fields::blobtree::FlatBlobtree;
 use boundtrace::tracer::camera::Camera;
-use boundtrace::tracer::render::{Frame, RenderSettings, render_serial};
-use boundtrace::tracer::scenes::{DEFAULT_SEED, Scene, SceneField};
+use boundtrace::tracer::render::{RenderSettings, render_serial};
+use boundtrace::tracer::scenes::{DEFAULT_SEED, Scene};
 use boundtrace::tracer::tile_programs::{TileProgramError, TilePrograms, render_tile_programs};
 use boundtrace::tracer::{Method, Mode};
 
-/// Asserts `a` (tile programs) equals `b` (full tree) within the
-/// tolerances; returns the number of roots.
-fn assert_same(a: &Frame<f64>, b: &Frame<f64>, what: &str) -> usize {
-    let mut roots = 0;
-    for y in 0..a.height() {
-        for x in 0..a.width() {
-            let (ha, hb) = (a.hits(x, y), b.hits(x, y));
-            assert_eq!(
-                ha.len(),
-                hb.len(),
-                "{what}: pixel ({x}, {y}) roots {ha:?} vs full {hb:?}"
-            );
-            for (p, q) in ha.iter().zip(hb) {
-                roots += 1;
-                assert_eq!(p.side, q.side, "{what}: pixel ({x}, {y})");
-                assert!(
-                    (p.t - q.t).abs() <= 1e-4 * q.t.abs(),
-                    "{what}: pixel ({x}, {y}) depth {} vs full {}",
-                    p.t,
-                    q.t
-                );
-                let dot: f64 = (0..3).map(|i| p.normal[i] * q.normal[i]).sum();
-                assert!(
-                    dot > 0.999,
-                    "{what}: pixel ({x}, {y}) normals {p:?} vs {q:?}"
-                );
-            }
-            let (sa, sb) = (a.pixel(x, y).unwrap(), b.pixel(x, y).unwrap());
-            assert_eq!(sa.trace.status, sb.trace.status, "{what}: pixel ({x}, {y})");
-        }
-    }
-    roots
-}
-
-fn tree(scene: &Scene<f64>) -> &FlatBlobtree {
-    match scene.field() {
-        SceneField::Blobtree(t) => t,
-        _ => unreachable!("not a blobtree scene"),
-    }
-}
+#[path = "common/frames.rs"]
+mod frames;
+use frames::{assert_same, tree};
 
 /// Renders `name` both ways at `size²` pixels (vertical field of view
 /// `fov` degrees, looking at the scene's centre) in both modes.

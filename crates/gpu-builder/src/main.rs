@@ -67,7 +67,13 @@ fn main() -> ExitCode {
             return ExitCode::FAILURE;
         }
     }
-    if let Err(err) = std::fs::copy(spv, &out) {
+    // Copied beside the target, then renamed over it: a reader (a test that
+    // runs while the next module builds) sees the old file or the new one,
+    // never half of one.
+    let mut partial = out.clone().into_os_string();
+    partial.push(".partial");
+    let partial = PathBuf::from(partial);
+    if let Err(err) = std::fs::copy(spv, &partial).and_then(|_| std::fs::rename(&partial, &out)) {
         eprintln!("cannot copy {} to {}: {err}", spv.display(), out.display());
         return ExitCode::FAILURE;
     }

@@ -853,31 +853,24 @@ impl<M: LegTrace> PixelKernel for Legs<M> {
     }
 }
 
-/// The signature of the leg kernels ([`render_sphere_leg`],
-/// [`render_sphere_leg_in`], [`render_segment_leg_in`],
-/// [`render_linear_taylor_leg_in`], [`render_quadratic_taylor_leg_in`]):
-/// `(constants, words, floats, blobs, x, y, roots, hits, base, leg, out)`.
-/// The shader's leg entry points take any `LegKernel`; every function of
-/// that signature is one.
-pub trait LegKernel:
-    Fn(
-    &Constants,
-    &[u32],
-    &[f32],
-    &[PointBlob<f32>],
-    u32,
-    u32,
-    &mut [Root<f32>],
-    &mut [HitOut],
-    usize,
-    &mut PixelLeg,
-    &mut PixelOut,
-)
-{
+/// Declares [`LegKernel`] as the `Fn` signature given once, with the
+/// blanket impl that makes every function of that signature one.
+macro_rules! leg_kernel {
+    ($(#[$doc:meta])* Fn $args:tt) => {
+        $(#[$doc])*
+        pub trait LegKernel: Fn $args {}
+        impl<F: Fn $args> LegKernel for F {}
+    };
 }
 
-impl<F> LegKernel for F where
-    F: Fn(
+leg_kernel! {
+    /// The signature of the leg kernels ([`render_sphere_leg`],
+    /// [`render_sphere_leg_in`], [`render_segment_leg_in`],
+    /// [`render_linear_taylor_leg_in`], [`render_quadratic_taylor_leg_in`]):
+    /// `(constants, words, floats, blobs, x, y, roots, hits, base, leg, out)`.
+    /// The shader's leg entry points take any `LegKernel`; every function of
+    /// that signature is one.
+    Fn(
         &Constants,
         &[u32],
         &[f32],
@@ -890,7 +883,6 @@ impl<F> LegKernel for F where
         &mut PixelLeg,
         &mut PixelOut,
     )
-{
 }
 
 /// One leg of pixel `(x, y)`'s sphere tracing ([`render_sphere_pixel`] in
@@ -1361,6 +1353,30 @@ mod tests {
     /// A leg kernel, as the tests pass them around.
     type LegFn = &'static dyn LegKernel;
 
+    /// Runs leg kernel `f` on pixel `(x, y)` of the scene data `(words,
+    /// floats, blobs)` in one leg from a fresh state (the CPU never cuts a
+    /// loop short), asserts that the pixel is done, and returns its output
+    /// and its 4 hit slots.
+    fn one_leg(
+        f: LegFn,
+        c: &Constants,
+        (words, floats, blobs): (&[u32], &[f32], &[PointBlob<f32>]),
+        x: u32,
+        y: u32,
+    ) -> (PixelOut, [HitOut; 4]) {
+        let r = Root {
+            t: 0.0,
+            side: Side::Touch,
+        };
+        let (mut rs, mut hs) = ([r; 4], [HitOut::default(); 4]);
+        let (mut leg, mut out) = (PixelLeg::default(), PixelOut::default());
+        f(
+            c, words, floats, blobs, x, y, &mut rs, &mut hs, 0, &mut leg, &mut out,
+        );
+        assert_eq!(leg.phase, PHASE_DONE, "({x}, {y})");
+        (out, hs)
+    }
+
     /// A 6 × 6 frame of `bounds` for `method` and `mode`.
     fn six_by_six(bounds: [[f32; 3]; 2], method: Method, mode: Mode) -> PixelSetup<f32> {
         PixelSetup {
@@ -1666,10 +1682,6 @@ mod tests {
     #[test]
     fn kind_filtered_legs_trace_their_kind_alone() {
         let (blobs, bounds) = two_blobs();
-        let r = Root {
-            t: 0.0,
-            side: Side::Touch,
-        };
         // Each method's kernel for every kind, blobs only, groups only.
         let kernels: [(Method, [LegFn; 3]); 3] = [
             (
@@ -1703,25 +1715,7 @@ mod tests {
             let mut hits_seen = 0;
             for y in 0..6 {
                 for x in 0..6 {
-                    let one = |f: LegFn| {
-                        let (mut rs, mut hs) = ([r; 4], [HitOut::default(); 4]);
-                        let (mut leg, mut out) = (PixelLeg::default(), PixelOut::default());
-                        f(
-                            &c,
-                            &[],
-                            &[],
-                            &blobs,
-                            x,
-                            y,
-                            &mut rs,
-                            &mut hs,
-                            0,
-                            &mut leg,
-                            &mut out,
-                        );
-                        assert_eq!(leg.phase, PHASE_DONE);
-                        (out, hs)
-                    };
+                    let one = |f: LegFn| one_leg(f, &c, (&[], &[], &blobs), x, y);
                     let all = one(fs[0]);
                     assert_eq!(one(fs[1]), all, "{method}");
                     let (other, _) = one(fs[2]);
@@ -1755,25 +1749,7 @@ mod tests {
             };
             for y in 0..6 {
                 for x in 0..6 {
-                    let run = |f: LegFn| {
-                        let (mut rs, mut hs) = ([r; 4], [HitOut::default(); 4]);
-                        let (mut leg, mut out) = (PixelLeg::default(), PixelOut::default());
-                        f(
-                            &c,
-                            t.nodes(),
-                            t.params(),
-                            &[],
-                            x,
-                            y,
-                            &mut rs,
-                            &mut hs,
-                            0,
-                            &mut leg,
-                            &mut out,
-                        );
-                        assert_eq!(leg.phase, PHASE_DONE);
-                        (out, hs)
-                    };
+                    let run = |f: LegFn| one_leg(f, &c, (t.nodes(), t.params(), &[]), x, y);
                     let (gpu, hs) = run(&render_sphere_leg_in::<BlobtreeOnly>);
                     let mut rc = [r; 4];
                     let cpu = trace_pixel_in(scene.field(), &setup, x, y, &mut rc, [0, 4]);
@@ -1805,10 +1781,6 @@ mod tests {
             panic!("aggregate-2 is a blobtree");
         };
         let t = tree.as_ref();
-        let r = Root {
-            t: 0.0,
-            side: Side::Touch,
-        };
         let size = 20;
         let (mut hit_pixels, mut tiles_seen) = (0, std::collections::BTreeSet::new());
         for mode in [Mode::Opaque, Mode::Transparent] {
@@ -1831,22 +1803,13 @@ mod tests {
             let c = Constants::new(&setup, SceneKind::Blobtree, 0.0, 4, programs.grid().tiles_x);
             for y in 0..size {
                 for x in 0..size {
-                    let (mut rs, mut hs) = ([r; 4], [HitOut::default(); 4]);
-                    let (mut leg, mut out) = (PixelLeg::default(), PixelOut::default());
-                    render_sphere_leg_in::<BlobtreeOnly>(
+                    let (out, hs) = one_leg(
+                        &render_sphere_leg_in::<BlobtreeOnly>,
                         &c,
-                        programs.words(),
-                        t.params(),
-                        &[],
+                        (programs.words(), t.params(), &[]),
                         x,
                         y,
-                        &mut rs,
-                        &mut hs,
-                        0,
-                        &mut leg,
-                        &mut out,
                     );
-                    assert_eq!(leg.phase, PHASE_DONE);
                     let px = cpu.pixel(x, y).unwrap();
                     assert_eq!(out.steps, px.trace.stats.steps, "({x}, {y}) {mode:?}");
                     assert_eq!(out.status, px.trace.status as u32);

@@ -28,6 +28,9 @@ use boundtrace_tracer::scenes::{DEFAULT_SEED, Scene, SceneField};
 use boundtrace_tracer::tile_programs::{TilePrograms, render_tile_programs};
 use std::time::Instant;
 
+#[path = "common/args.rs"]
+mod args;
+
 /// The best of `n` wall-clock times of `f`, and its last result.
 fn best<R>(n: u32, mut f: impl FnMut() -> R) -> (f64, R) {
     let mut t_best = f64::INFINITY;
@@ -53,20 +56,7 @@ fn hit(f: &Frame<f32>, x: u32, y: u32) -> bool {
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let mut args = std::env::args().skip(1);
-    let size: u32 = args.next().map(|s| s.parse()).transpose()?.unwrap_or(32);
-    let repeats: u32 = args
-        .next()
-        .map(|s| s.parse())
-        .transpose()?
-        .unwrap_or(3)
-        .max(1);
-    let scenes: Vec<String> = args
-        .next()
-        .unwrap_or_else(|| "aggregate-2,aggregate-3".into())
-        .split(',')
-        .map(str::to_owned)
-        .collect();
+    let (size, repeats, scenes) = args::size_repeats_scenes(32, "aggregate-2,aggregate-3")?;
     let gpu = GpuTracer::new()?;
     println!(
         "adapter: {}; {size}x{size}, opaque, sphere, best of {repeats}",

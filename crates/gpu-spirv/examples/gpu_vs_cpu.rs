@@ -32,21 +32,11 @@ use boundtrace_tracer::render::{RenderSettings, render_serial};
 use boundtrace_tracer::scenes::{DEFAULT_SEED, Scene};
 use std::time::Instant;
 
+#[path = "common/args.rs"]
+mod args;
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let mut args = std::env::args().skip(1);
-    let size: u32 = args.next().map(|s| s.parse()).transpose()?.unwrap_or(128);
-    let repeats: u32 = args
-        .next()
-        .map(|s| s.parse())
-        .transpose()?
-        .unwrap_or(3)
-        .max(1);
-    let scenes: Vec<String> = args
-        .next()
-        .unwrap_or_else(|| "blobs,blobs-sum".into())
-        .split(',')
-        .map(str::to_owned)
-        .collect();
+    let (size, repeats, scenes) = args::size_repeats_scenes(128, "blobs,blobs-sum")?;
     let t = Instant::now();
     let gpu = GpuTracer::new()?;
     let info = gpu.adapter_info();

@@ -58,7 +58,7 @@
 //! ([`TilePrograms`]), so each workgroup evaluates only the primitives its
 //! rays meet; the frame is its CPU twin's bit for bit, and `aggregate-4`
 //! (11,110 primitives) renders that way on lavapipe (difftest
-//! `sphere_matches_the_cpu_on_tiled_blobtrees`; the CLI's GPU backend
+//! `sphere_matches_the_cpu_on_blobtrees_whole_and_tiled`; the CLI's GPU backend
 //! renders blobtrees tiled). The tiles' programs are whole along each ray,
 //! not the paper's per-depth ranges.
 //! [`interval_probe`] and [`arith_probe`] check the driver's arithmetic
@@ -2074,8 +2074,7 @@ mod tests {
         assert!(script.contains("\"${out%.spv}-$method-$kind.spv\""));
         assert!(script.contains("for method in segment linear-taylor quadratic-taylor; do"));
         assert!(script.contains("for kind in blobs groups; do"));
-        assert!(script.contains("BOUNDTRACE_SHADER_FEATURES=sphere-blobtree"));
-        assert!(script.contains("\"${out%.spv}-sphere-blobtree.spv\""));
+        assert!(script.contains("module sphere-blobtree \"${out%.spv}-sphere-blobtree.spv\""));
         let shader = include_str!("../../gpu-shader/src/lib.rs");
         let features = include_str!("../../gpu-shader/Cargo.toml");
         for slot in 0..LEG_MODULES {

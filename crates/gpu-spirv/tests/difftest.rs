@@ -2,7 +2,8 @@
 //! standard scene with flat GPU data × every GPU method: `blobs` and
 //! `blobs-sum` at 32 × 32, `molecule` (500 Gaussian atoms) at 8 × 8, and
 //! by sphere tracing the blobtrees `aggregate-1` (16 × 16), `aggregate-2`
-//! and `aggregate-3` (8 × 8), CSG and smooth ([`BLOBTREES`]). On
+//! and `aggregate-3` (8 × 8), CSG and smooth ([`BLOBTREES`]), and tiled
+//! `aggregate-2-smooth` to `aggregate-4-smooth` ([`TILED_BLOBTREES`]). On
 //! lavapipe, whose llvmpipe ends every loop of 8 pixels after 65,535
 //! iterations per dispatch, every `molecule` frame of [`MOLECULE_ON_LAVAPIPE`]
 //! must render and match (steps, their inner bisections and normals resume
@@ -41,30 +42,33 @@ use std::sync::{Mutex, MutexGuard, Once, PoisonError};
 /// whether [`short_legs_match`] runs on it too.
 type SceneCase = (&'static str, u32, bool);
 
-/// The scenes with flat GPU data, by tracer: the scenes of one entry share
-/// a tracer and so its pipelines (a scene of the same
-/// [`boundtrace_gpu::SceneKind`] joins an entry).
-const SCENES: [&[SceneCase]; 2] = [
-    &[("blobs", 32, true)],
-    &[("blobs-sum", 32, true), ("molecule", 8, false)],
+/// The scenes with flat GPU data. A test traces them all with one tracer:
+/// for one method that is one pipeline per module the scenes need (two for
+/// the leg methods, whose blob and group modules differ; one for sphere
+/// tracing).
+const SCENES: &[SceneCase] = &[
+    ("blobs", 32, true),
+    ("blobs-sum", 32, true),
+    ("molecule", 8, false),
 ];
 
 /// The blobtree scenes (`aggregate-*`, flat blobtrees of A-SDF primitives
 /// under CSG or compact smooth unions), traced on the GPU by sphere tracing
-/// only (the `sphere-blobtree` module), one tracer for all. `aggregate-4`
+/// only (the `sphere-blobtree` module), with the tracer of the tiled
+/// blobtrees ([`TILED_BLOBTREES`]). `aggregate-4`
 /// (11,110 primitives) ends in `GpuError::LoopLimit` on lavapipe: a
 /// normal (three evaluations of 22,219 nodes) needs more than its 65,535
 /// loop iterations, and so does a step where the 8 pixels of a group
 /// evaluate the tree at different places of the step's code
-/// (BENCHMARKS.md "GPU", session 24).
-const BLOBTREES: [&[SceneCase]; 1] = [&[
+/// (BENCHMARKS.md "GPU", session 24); tiled, it renders.
+const BLOBTREES: &[SceneCase] = &[
     ("aggregate-1", 16, true),
     ("aggregate-1-smooth", 16, false),
     ("aggregate-2", 8, false),
     ("aggregate-2-smooth", 8, false),
     ("aggregate-3", 8, false),
     ("aggregate-3-smooth", 8, false),
-]];
+];
 
 /// The `molecule` frames that fit lavapipe's loop limit: they must render
 /// and match the CPU there — since session 21 (resumable inner loops of a
@@ -103,7 +107,7 @@ fn in_ci() -> bool {
 /// starts. On a CPU adapter with a cold shader cache, lavapipe holds
 /// several gigabytes per compiled pipeline until the pipeline is dropped
 /// (BENCHMARKS.md "GPU", session 13): a tracer shared by every test, or
-/// tests in parallel, passed 20 GB.
+/// tests in parallel, passed 20 GB; a test compiles at most two.
 struct Gpu {
     tracer: GpuTracer,
     _one: MutexGuard<'static, ()>,
@@ -200,19 +204,26 @@ fn compare(cpu: &Frame<f32>, gpu: &Frame<f32>) -> Result<String, String> {
     if ok { Ok(summary) } else { Err(summary) }
 }
 
-/// Every pixel of `scenes` × `methods` × both modes against the CPU, one
-/// tracer per entry of `scenes` (so that one pipeline per tracer is
-/// compiled for a single method) and, with `legs`, [`short_legs_match`]
-/// with the same pipelines on the scenes that ask for it.
-fn run(methods: &[Method], scenes: &[&[SceneCase]], legs: bool) {
+/// Every pixel of `scenes` × `methods` × both modes against the CPU, with
+/// one tracer (so that each pipeline is compiled once) and, with `legs`,
+/// [`short_legs_match`] with the same pipelines on the scenes that ask for
+/// it. Returns the failures.
+fn run_with(gpu: &GpuTracer, methods: &[Method], scenes: &[SceneCase], legs: bool) -> Vec<String> {
     let mut failures = Vec::new();
-    for set in scenes {
-        let Some(gpu) = gpu() else { return };
-        for &(name, size, scene_legs) in *set {
-            let legs = legs && scene_legs;
-            one_scene(&gpu, methods, name, size, legs, &mut failures);
-        }
+    for &(name, size, scene_legs) in scenes {
+        one_scene(gpu, methods, name, size, legs && scene_legs, &mut failures);
     }
+    failures
+}
+
+/// [`run_with`] a tracer of its own; asserts that nothing failed.
+fn run(methods: &[Method], scenes: &[SceneCase], legs: bool) {
+    let Some(gpu) = gpu() else { return };
+    assert_none_failed(&run_with(&gpu, methods, scenes, legs));
+}
+
+/// Fails the test with every failure listed, if any.
+fn assert_none_failed(failures: &[String]) {
     assert!(
         failures.is_empty(),
         "GPU/CPU differences:\n{}",
@@ -351,16 +362,20 @@ fn short_legs_match(
 /// than one dispatch on a CPU adapter) and still matches the CPU.
 #[test]
 fn sphere_matches_the_cpu_in_both_modes() {
-    run(&[Method::Sphere], &SCENES, true);
+    run(&[Method::Sphere], SCENES, true);
 }
 
 /// Sphere tracing of flat blobtrees (the `sphere-blobtree` module's
 /// `trace_sphere_blobtree`) against the CPU on every pixel of the
 /// [`BLOBTREES`] scenes, opaque and transparent, with the issue's
-/// thresholds; resumed legs on `aggregate-1`.
+/// thresholds, resumed legs on `aggregate-1`; then, with the same pipeline,
+/// the tiled blobtrees ([`tiled_blobtrees_match`]).
 #[test]
-fn sphere_matches_the_cpu_on_blobtrees() {
-    run(&[Method::Sphere], &BLOBTREES, true);
+fn sphere_matches_the_cpu_on_blobtrees_whole_and_tiled() {
+    let Some(gpu) = gpu() else { return };
+    let mut failures = run_with(&gpu, &[Method::Sphere], BLOBTREES, true);
+    failures.extend(tiled_blobtrees_match(&gpu));
+    assert_none_failed(&failures);
 }
 
 /// The tiled blobtree scenes: name and frame side (tile programs are
@@ -376,11 +391,10 @@ const TILED_BLOBTREES: [(&str, u32); 4] = [
 /// tile, a workgroup's pixels evaluate their tile's program) against the
 /// CPU twin (`render_tile_programs`, the same programs), every pixel, both
 /// modes, with the issue's thresholds (`tests/tracer_tile_programs.rs`
-/// compares the CPU twin with the full tree). `aggregate-4`, whose full
-/// tree lavapipe's loop limit refuses, renders tiled.
-#[test]
-fn sphere_matches_the_cpu_on_tiled_blobtrees() {
-    let Some(gpu) = gpu() else { return };
+/// compares the CPU twin with the full tree); a frame of another size is
+/// refused. `aggregate-4`, whose full tree lavapipe's loop limit refuses,
+/// renders tiled. Returns the failures.
+fn tiled_blobtrees_match(gpu: &GpuTracer) -> Vec<String> {
     let mut failures = Vec::new();
     for (name, size) in TILED_BLOBTREES {
         let scene = Scene::<f32>::build(name, DEFAULT_SEED).unwrap();
@@ -428,11 +442,7 @@ fn sphere_matches_the_cpu_on_tiled_blobtrees() {
             Err(GpuError::UnsupportedScene(_))
         ));
     }
-    assert!(
-        failures.is_empty(),
-        "GPU/CPU differences:\n{}",
-        failures.join("\n")
-    );
+    failures
 }
 
 /// Segment tracing (the segment modules' `trace_segment_*` entry points, in legs like
@@ -440,7 +450,7 @@ fn sphere_matches_the_cpu_on_tiled_blobtrees() {
 /// and transparent, with the issue's thresholds.
 #[test]
 fn segment_matches_the_cpu_in_both_modes() {
-    run(&[Method::Segment], &SCENES, true);
+    run(&[Method::Segment], SCENES, true);
 }
 
 /// Forward linear inclusions from Taylor bounds (the leg modules'
@@ -448,14 +458,14 @@ fn segment_matches_the_cpu_in_both_modes() {
 /// the scenes ([`SCENES`]), opaque and transparent, with the issue's thresholds.
 #[test]
 fn linear_taylor_matches_the_cpu_in_both_modes() {
-    run(&[Method::LinearTaylor], &SCENES, true);
+    run(&[Method::LinearTaylor], SCENES, true);
 }
 
 /// [`linear_taylor_matches_the_cpu_in_both_modes`] for forward quadratic
 /// inclusions (`trace_quadratic_taylor_*`).
 #[test]
 fn quadratic_taylor_matches_the_cpu_in_both_modes() {
-    run(&[Method::QuadraticTaylor], &SCENES, true);
+    run(&[Method::QuadraticTaylor], SCENES, true);
 }
 
 #[test]
@@ -512,5 +522,5 @@ const TRACE_PIXELS: &str = "needs the trace_pixels entry point (BOUNDTRACE_SHADE
 #[ignore = "needs trace_pixels (BOUNDTRACE_SHADER_FEATURES=trace) and a driver that compiles it: lavapipe cannot (BENCHMARKS.md GPU)"]
 fn every_scene_and_method_matches_the_cpu_in_both_modes() {
     eprintln!("{TRACE_PIXELS}");
-    run(&METHODS, &SCENES, false);
+    run(&METHODS, SCENES, false);
 }
