@@ -683,52 +683,6 @@ impl LegTrace for SegmentTrace {
     }
 }
 
-/// Forward linear inclusions from Taylor bounds
-/// ([`trace_linear_taylor_resume_in`]).
-#[derive(Clone, Copy)]
-struct LinearTaylorTrace;
-
-impl LegTrace for LinearTaylorTrace {
-    const METHOD: Method = Method::LinearTaylor;
-    fn trace<F: Field<f32>>(
-        field: &F,
-        ray: &Ray<f32>,
-        span: [f32; 2],
-        mode: Mode,
-        params: &Params<f32>,
-        roots: &mut [Root<f32>],
-        window: [usize; 2],
-        state: &mut MarchState<f32>,
-        guard: &mut LimitProbe,
-    ) -> Leg<f32> {
-        trace_linear_taylor_resume_in(field, ray, span, mode, params, roots, window, state, guard)
-    }
-}
-
-/// Forward quadratic inclusions from Taylor bounds
-/// ([`trace_quadratic_taylor_resume_in`]).
-#[derive(Clone, Copy)]
-struct QuadraticTaylorTrace;
-
-impl LegTrace for QuadraticTaylorTrace {
-    const METHOD: Method = Method::QuadraticTaylor;
-    fn trace<F: Field<f32>>(
-        field: &F,
-        ray: &Ray<f32>,
-        span: [f32; 2],
-        mode: Mode,
-        params: &Params<f32>,
-        roots: &mut [Root<f32>],
-        window: [usize; 2],
-        state: &mut MarchState<f32>,
-        guard: &mut LimitProbe,
-    ) -> Leg<f32> {
-        trace_quadratic_taylor_resume_in(
-            field, ray, span, mode, params, roots, window, state, guard,
-        )
-    }
-}
-
 /// The leg kernels' [`PixelKernel`]: one leg of the pixel's trace with
 /// `M`, or its shading.
 ///
@@ -1010,74 +964,76 @@ pub fn render_segment_leg_in<K: SceneKinds>(
     );
 }
 
-/// [`render_segment_leg_in`] for [`Method::LinearTaylor`] (forward
-/// linear inclusions from Taylor bounds, in legs:
-/// [`trace_linear_taylor_resume_in`]): the same records as
-/// [`render_pixel`]'s, bit for bit. The shader's
-/// `trace_linear_taylor_blobs` and `trace_linear_taylor_groups` entry
-/// points, one per module.
-#[allow(clippy::too_many_arguments)]
-pub fn render_linear_taylor_leg_in<K: SceneKinds>(
-    c: &Constants,
-    words: &[u32],
-    floats: &[f32],
-    blobs: &[PointBlob<f32>],
-    x: u32,
-    y: u32,
-    roots: &mut [Root<f32>],
-    hits: &mut [HitOut],
-    base: usize,
-    leg: &mut PixelLeg,
-    out: &mut PixelOut,
-) {
-    render_leg::<_, K>(
-        LinearTaylorTrace,
-        c,
-        words,
-        floats,
-        blobs,
-        x,
-        y,
-        roots,
-        hits,
-        base,
-        leg,
-        out,
-    );
+/// A single-method leg kernel: the [`LegTrace`] type `$trace` of `$method`
+/// (one leg with the tracer's `$resume`) and the public kernel `$render`
+/// (the leg kernels' signature, [`LegKernel`]), the same records as
+/// [`render_pixel`]'s, bit for bit.
+macro_rules! leg_method {
+    ($(#[$doc:meta])* $render:ident, $trace:ident, $method:expr, $resume:path) => {
+        #[derive(Clone, Copy)]
+        struct $trace;
+
+        impl LegTrace for $trace {
+            const METHOD: Method = $method;
+            fn trace<F: Field<f32>>(
+                field: &F,
+                ray: &Ray<f32>,
+                span: [f32; 2],
+                mode: Mode,
+                params: &Params<f32>,
+                roots: &mut [Root<f32>],
+                window: [usize; 2],
+                state: &mut MarchState<f32>,
+                guard: &mut LimitProbe,
+            ) -> Leg<f32> {
+                $resume(field, ray, span, mode, params, roots, window, state, guard)
+            }
+        }
+
+        $(#[$doc])*
+        #[allow(clippy::too_many_arguments)]
+        pub fn $render<K: SceneKinds>(
+            c: &Constants,
+            words: &[u32],
+            floats: &[f32],
+            blobs: &[PointBlob<f32>],
+            x: u32,
+            y: u32,
+            roots: &mut [Root<f32>],
+            hits: &mut [HitOut],
+            base: usize,
+            leg: &mut PixelLeg,
+            out: &mut PixelOut,
+        ) {
+            render_leg::<_, K>(
+                $trace, c, words, floats, blobs, x, y, roots, hits, base, leg, out,
+            );
+        }
+    };
 }
 
-/// [`render_linear_taylor_leg_in`] for [`Method::QuadraticTaylor`]
-/// ([`trace_quadratic_taylor_resume_in`]; the shader's
-/// `trace_quadratic_taylor_blobs` and `trace_quadratic_taylor_groups`).
-#[allow(clippy::too_many_arguments)]
-pub fn render_quadratic_taylor_leg_in<K: SceneKinds>(
-    c: &Constants,
-    words: &[u32],
-    floats: &[f32],
-    blobs: &[PointBlob<f32>],
-    x: u32,
-    y: u32,
-    roots: &mut [Root<f32>],
-    hits: &mut [HitOut],
-    base: usize,
-    leg: &mut PixelLeg,
-    out: &mut PixelOut,
-) {
-    render_leg::<_, K>(
-        QuadraticTaylorTrace,
-        c,
-        words,
-        floats,
-        blobs,
-        x,
-        y,
-        roots,
-        hits,
-        base,
-        leg,
-        out,
-    );
-}
+leg_method!(
+    /// [`render_segment_leg_in`] for [`Method::LinearTaylor`] (forward
+    /// linear inclusions from Taylor bounds, in legs:
+    /// [`trace_linear_taylor_resume_in`]): the same records as
+    /// [`render_pixel`]'s, bit for bit. The shader's
+    /// `trace_linear_taylor_blobs` and `trace_linear_taylor_groups` entry
+    /// points, one per module.
+    render_linear_taylor_leg_in,
+    LinearTaylorTrace,
+    Method::LinearTaylor,
+    trace_linear_taylor_resume_in
+);
+
+leg_method!(
+    /// [`render_linear_taylor_leg_in`] for [`Method::QuadraticTaylor`]
+    /// ([`trace_quadratic_taylor_resume_in`]; the shader's
+    /// `trace_quadratic_taylor_blobs` and `trace_quadratic_taylor_groups`).
+    render_quadratic_taylor_leg_in,
+    QuadraticTaylorTrace,
+    Method::QuadraticTaylor,
+    trace_quadratic_taylor_resume_in
+);
 
 /// The leg kernels with `M`'s tracer.
 #[allow(clippy::too_many_arguments)]
@@ -1683,30 +1639,21 @@ mod tests {
     fn kind_filtered_legs_trace_their_kind_alone() {
         let (blobs, bounds) = two_blobs();
         // Each method's kernel for every kind, blobs only, groups only.
+        macro_rules! by_kind {
+            ($f:ident) => {
+                [
+                    &$f::<AllKinds> as LegFn,
+                    &$f::<BlobsOnly>,
+                    &$f::<GroupsOnly>,
+                ]
+            };
+        }
         let kernels: [(Method, [LegFn; 3]); 3] = [
-            (
-                Method::Segment,
-                [
-                    &render_segment_leg_in::<AllKinds>,
-                    &render_segment_leg_in::<BlobsOnly>,
-                    &render_segment_leg_in::<GroupsOnly>,
-                ],
-            ),
-            (
-                Method::LinearTaylor,
-                [
-                    &render_linear_taylor_leg_in::<AllKinds>,
-                    &render_linear_taylor_leg_in::<BlobsOnly>,
-                    &render_linear_taylor_leg_in::<GroupsOnly>,
-                ],
-            ),
+            (Method::Segment, by_kind!(render_segment_leg_in)),
+            (Method::LinearTaylor, by_kind!(render_linear_taylor_leg_in)),
             (
                 Method::QuadraticTaylor,
-                [
-                    &render_quadratic_taylor_leg_in::<AllKinds>,
-                    &render_quadratic_taylor_leg_in::<BlobsOnly>,
-                    &render_quadratic_taylor_leg_in::<GroupsOnly>,
-                ],
+                by_kind!(render_quadratic_taylor_leg_in),
             ),
         ];
         for (method, fs) in kernels {

@@ -921,14 +921,23 @@ impl WindowBounds for SegmentTaylor {
     }
 }
 
-/// [`Method::LinearTaylor`] (`QUADRATIC = false`) or
-/// [`Method::QuadraticTaylor`] (whatever the method given): the Taylor
-/// bound alone, as [`window_bound`] builds it for those methods, so that a
-/// caller links neither the bottom-up bounds nor the other degree
-/// (BENCHMARKS.md "GPU").
-pub(crate) struct TaylorWindow<const QUADRATIC: bool>;
+/// One forward bound alone, whatever the method given: Taylor
+/// (`BOTTOM_UP = false`) or bottom-up (the field evaluated in forward
+/// arithmetic), linear or quadratic (`QUADRATIC`), as [`window_bound`]
+/// builds it for [`Method::LinearTaylor`], [`Method::QuadraticTaylor`],
+/// [`Method::LinearBottomUp`] and [`Method::QuadraticBottomUp`], so that a
+/// caller links none of the other three (BENCHMARKS.md "GPU").
+pub(crate) struct OneBound<const BOTTOM_UP: bool, const QUADRATIC: bool>;
 
-impl<const QUADRATIC: bool> WindowBounds for TaylorWindow<QUADRATIC> {
+/// [`Method::LinearTaylor`] (`QUADRATIC = false`) or
+/// [`Method::QuadraticTaylor`]: the Taylor bound alone.
+pub(crate) type TaylorWindow<const QUADRATIC: bool> = OneBound<false, QUADRATIC>;
+
+/// [`Method::LinearBottomUp`] (`QUADRATIC = false`) or
+/// [`Method::QuadraticBottomUp`]: the bottom-up bound alone.
+pub(crate) type BottomUpWindow<const QUADRATIC: bool> = OneBound<true, QUADRATIC>;
+
+impl<const BOTTOM_UP: bool, const QUADRATIC: bool> WindowBounds for OneBound<BOTTOM_UP, QUADRATIC> {
     fn bound<T: Real, F: Field<T>>(
         _method: Method,
         field: &F,
@@ -937,12 +946,24 @@ impl<const QUADRATIC: bool> WindowBounds for TaylorWindow<QUADRATIC> {
         e: T,
         stats: &mut RayStats,
     ) -> StepBound<T> {
-        // One bound evaluation, as `by_kind` counts a Taylor bound.
+        // One bound evaluation, as `by_kind` counts a Taylor or bottom-up
+        // bound.
         stats.bound_evals += 1;
+        let len = e - t;
         if QUADRATIC {
-            StepBound::from_quadratic_or_unsupported(field.taylor_quadratic(ray, t, e), e - t)
+            let b = if BOTTOM_UP {
+                Some(bottom_up_quadratic(field, ray, t, e))
+            } else {
+                field.taylor_quadratic(ray, t, e)
+            };
+            StepBound::from_quadratic_or_unsupported(b, len)
         } else {
-            StepBound::from_linear_or_unsupported(field.taylor_linear(ray, t, e), e - t)
+            let b = if BOTTOM_UP {
+                Some(field.eval(ray.at(t, e)))
+            } else {
+                field.taylor_linear(ray, t, e)
+            };
+            StepBound::from_linear_or_unsupported(b, len)
         }
     }
 }
@@ -1796,8 +1817,9 @@ mod tests {
     #[test]
     fn every_marcher_in_legs_matches_one_trace() {
         use crate::trace::{
-            trace_in, trace_linear_taylor_resume_in, trace_quadratic_taylor_resume_in,
-            trace_resume_in, trace_segment_resume_in,
+            trace_in, trace_linear_bottom_up_resume_in, trace_linear_taylor_resume_in,
+            trace_quadratic_bottom_up_resume_in, trace_quadratic_taylor_resume_in, trace_resume_in,
+            trace_segment_resume_in,
         };
         use boundtrace_fields::{Blobs, Kernel, PointBlob};
         // Overlapping compact blobs: Taylor bounds exist, so every marcher
@@ -1859,6 +1881,16 @@ mod tests {
                                     &blobs, &ray, span, mode, &p, &mut buf, window, &mut st,
                                     &mut guard,
                                 ),
+                                Method::LinearBottomUp if one => trace_linear_bottom_up_resume_in(
+                                    &blobs, &ray, span, mode, &p, &mut buf, window, &mut st,
+                                    &mut guard,
+                                ),
+                                Method::QuadraticBottomUp if one => {
+                                    trace_quadratic_bottom_up_resume_in(
+                                        &blobs, &ray, span, mode, &p, &mut buf, window, &mut st,
+                                        &mut guard,
+                                    )
+                                }
                                 _ => trace_resume_in(
                                     &blobs, &ray, span, m, mode, &p, &mut buf, window, &mut st,
                                     &mut guard,

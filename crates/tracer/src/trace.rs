@@ -431,103 +431,89 @@ pub fn trace_resume_in<T: Real, F: Field<T>, G: march::StepGuard>(
     Leg::of(next)
 }
 
-/// [`trace_resume_in`] with [`Method::Segment`], reached without the
-/// method dispatch, so that a caller (the GPU shader's `trace_segment_*`
-/// entry point) links segment tracing alone (see [`trace_sphere_in`]),
-/// with one difference: Galin et al.'s `λ` comes from the field's Taylor
-/// lines only ([`Field::taylor_linear`]). Where a field has none on a
-/// window, the step is certified with interval enclosures (as at a kink)
-/// instead of bottom-up lines, whose code is about 30 times larger on a GPU
-/// that inlines every call (BENCHMARKS.md "GPU"). So the trace equals
-/// [`trace_resume_in`]'s with [`Method::Segment`] bit for bit wherever the
-/// Taylor lines exist (e.g. blobs with compact kernels), and is as sound
-/// elsewhere.
-#[allow(clippy::too_many_arguments)]
-pub fn trace_segment_resume_in<T: Real, F: Field<T>, G: march::StepGuard>(
-    field: &F,
-    ray: &Ray<T>,
-    span: [T; 2],
-    mode: Mode,
-    params: &Params<T>,
-    roots: &mut [Root<T>],
-    window: [usize; 2],
-    state: &mut march::MarchState<T>,
-    guard: &mut G,
-) -> Leg<T> {
-    window_resume_in::<march::SegmentTaylor, _, _, _>(
-        field,
-        ray,
-        span,
-        Method::Segment,
-        mode,
-        params,
-        roots,
-        window,
-        state,
-        guard,
-    )
+/// A single-method resume function: [`trace_resume_in`] with `$method`
+/// and the window bounds `$bounds` alone, reached without the method
+/// dispatch (the body of each is [`window_resume_in`]).
+macro_rules! single_method_resume {
+    ($(#[$doc:meta])* $name:ident, $bounds:ty, $method:expr) => {
+        $(#[$doc])*
+        #[allow(clippy::too_many_arguments)]
+        pub fn $name<T: Real, F: Field<T>, G: march::StepGuard>(
+            field: &F,
+            ray: &Ray<T>,
+            span: [T; 2],
+            mode: Mode,
+            params: &Params<T>,
+            roots: &mut [Root<T>],
+            window: [usize; 2],
+            state: &mut march::MarchState<T>,
+            guard: &mut G,
+        ) -> Leg<T> {
+            window_resume_in::<$bounds, _, _, _>(
+                field, ray, span, $method, mode, params, roots, window, state, guard,
+            )
+        }
+    };
 }
 
-/// [`trace_resume_in`] with [`Method::LinearTaylor`], reached without the
-/// method dispatch, so that a caller (the GPU shader's
-/// `trace_linear_taylor_*` entry points) links the Taylor linear bound
-/// alone (see [`trace_segment_resume_in`]). Equal to [`trace_resume_in`]'s
-/// trace bit for bit; [`Status::Unsupported`] where the field has no
-/// Taylor bound, as there.
-#[allow(clippy::too_many_arguments)]
-pub fn trace_linear_taylor_resume_in<T: Real, F: Field<T>, G: march::StepGuard>(
-    field: &F,
-    ray: &Ray<T>,
-    span: [T; 2],
-    mode: Mode,
-    params: &Params<T>,
-    roots: &mut [Root<T>],
-    window: [usize; 2],
-    state: &mut march::MarchState<T>,
-    guard: &mut G,
-) -> Leg<T> {
-    window_resume_in::<march::TaylorWindow<false>, _, _, _>(
-        field,
-        ray,
-        span,
-        Method::LinearTaylor,
-        mode,
-        params,
-        roots,
-        window,
-        state,
-        guard,
-    )
-}
+single_method_resume!(
+    /// [`trace_resume_in`] with [`Method::Segment`], reached without the
+    /// method dispatch, so that a caller (the GPU shader's `trace_segment_*`
+    /// entry point) links segment tracing alone (see [`trace_sphere_in`]),
+    /// with one difference: Galin et al.'s `λ` comes from the field's Taylor
+    /// lines only ([`Field::taylor_linear`]). Where a field has none on a
+    /// window, the step is certified with interval enclosures (as at a kink)
+    /// instead of bottom-up lines, whose code is about 30 times larger on a GPU
+    /// that inlines every call (BENCHMARKS.md "GPU"). So the trace equals
+    /// [`trace_resume_in`]'s with [`Method::Segment`] bit for bit wherever the
+    /// Taylor lines exist (e.g. blobs with compact kernels), and is as sound
+    /// elsewhere.
+    trace_segment_resume_in,
+    march::SegmentTaylor,
+    Method::Segment
+);
 
-/// [`trace_linear_taylor_resume_in`] with [`Method::QuadraticTaylor`]
-/// (the Taylor quadratic bound alone; the shader's
-/// `trace_quadratic_taylor_*` entry points).
-#[allow(clippy::too_many_arguments)]
-pub fn trace_quadratic_taylor_resume_in<T: Real, F: Field<T>, G: march::StepGuard>(
-    field: &F,
-    ray: &Ray<T>,
-    span: [T; 2],
-    mode: Mode,
-    params: &Params<T>,
-    roots: &mut [Root<T>],
-    window: [usize; 2],
-    state: &mut march::MarchState<T>,
-    guard: &mut G,
-) -> Leg<T> {
-    window_resume_in::<march::TaylorWindow<true>, _, _, _>(
-        field,
-        ray,
-        span,
-        Method::QuadraticTaylor,
-        mode,
-        params,
-        roots,
-        window,
-        state,
-        guard,
-    )
-}
+single_method_resume!(
+    /// [`trace_resume_in`] with [`Method::LinearTaylor`], reached without the
+    /// method dispatch, so that a caller (the GPU shader's
+    /// `trace_linear_taylor_*` entry points) links the Taylor linear bound
+    /// alone (see [`trace_segment_resume_in`]). Equal to [`trace_resume_in`]'s
+    /// trace bit for bit; [`Status::Unsupported`] where the field has no
+    /// Taylor bound, as there.
+    trace_linear_taylor_resume_in,
+    march::TaylorWindow<false>,
+    Method::LinearTaylor
+);
+
+single_method_resume!(
+    /// [`trace_linear_taylor_resume_in`] with [`Method::QuadraticTaylor`]
+    /// (the Taylor quadratic bound alone; the shader's
+    /// `trace_quadratic_taylor_*` entry points).
+    trace_quadratic_taylor_resume_in,
+    march::TaylorWindow<true>,
+    Method::QuadraticTaylor
+);
+
+single_method_resume!(
+    /// [`trace_resume_in`] with [`Method::LinearBottomUp`], reached without
+    /// the method dispatch, so that a caller links the bottom-up linear
+    /// bound alone (see [`trace_segment_resume_in`]). Equal to
+    /// [`trace_resume_in`]'s trace bit for bit. No SPIR-V module holds it
+    /// yet: on the blob scenes alone, the module rust-gpu builds from it
+    /// exceeds SPIR-V's id bound once inlined (BENCHMARKS.md "GPU",
+    /// session 25).
+    trace_linear_bottom_up_resume_in,
+    march::BottomUpWindow<false>,
+    Method::LinearBottomUp
+);
+
+single_method_resume!(
+    /// [`trace_linear_bottom_up_resume_in`] with [`Method::QuadraticBottomUp`]
+    /// (the bottom-up quadratic bound alone).
+    trace_quadratic_bottom_up_resume_in,
+    march::BottomUpWindow<true>,
+    Method::QuadraticBottomUp
+);
 
 /// One leg of the window marcher with the bounds `B` (the body of the
 /// single-method resume functions).
