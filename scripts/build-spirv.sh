@@ -61,13 +61,19 @@ module "${BOUNDTRACE_SHADER_FEATURES:-}" "$out"
 # target dir: only the shader crate (its features) differs between them, so
 # its dependencies are compiled to SPIR-V once. Skipped when
 # BOUNDTRACE_SHADER_FEATURES picks the main module's features.
+# The blobtree module comes right after segment tracing's: scripts/test.sh
+# runs the GPU tests that need little memory (sphere, segment, blobtrees)
+# while the forward-Taylor modules build, and those modules' tests (several
+# GB per pipeline on lavapipe) once every module is built.
 if [ -z "${BOUNDTRACE_SHADER_FEATURES:-}" ]; then
     for method in segment linear-taylor quadratic-taylor; do
         for kind in blobs groups; do
             echo "==> compiling the $method module for $kind"
             module "$method-$kind" "${out%.spv}-$method-$kind.spv"
         done
+        if [ "$method" = segment ]; then
+            echo "==> compiling the sphere module for blobtrees"
+            module sphere-blobtree "${out%.spv}-sphere-blobtree.spv"
+        fi
     done
-    echo "==> compiling the sphere module for blobtrees"
-    module sphere-blobtree "${out%.spv}-sphere-blobtree.spv"
 fi

@@ -42,14 +42,15 @@ use std::sync::{Mutex, MutexGuard, Once, PoisonError};
 /// whether [`short_legs_match`] runs on it too.
 type SceneCase = (&'static str, u32, bool);
 
-/// The scenes with flat GPU data. A test traces them all with one tracer:
-/// for one method that is one pipeline per module the scenes need (two for
-/// the leg methods, whose blob and group modules differ; one for sphere
-/// tracing).
-const SCENES: &[SceneCase] = &[
-    ("blobs", 32, true),
-    ("blobs-sum", 32, true),
-    ("molecule", 8, false),
+/// The scenes with flat GPU data, by scene kind: the leg methods have one
+/// module per kind, and [`run`] gives each kind a tracer of its own, so
+/// that one such pipeline is alive at a time (on lavapipe a leg method's
+/// pipeline takes several GB: the forward-Taylor difftests peaked at
+/// 13.7 GB and 16.3 GB with both kinds' pipelines in one tracer, session
+/// 25). Sphere tracing has one module for both kinds: one tracer for all.
+const SCENES: [&[SceneCase]; 2] = [
+    &[("blobs", 32, true)],
+    &[("blobs-sum", 32, true), ("molecule", 8, false)],
 ];
 
 /// The blobtree scenes (`aggregate-*`, flat blobtrees of A-SDF primitives
@@ -102,12 +103,12 @@ fn in_ci() -> bool {
     std::env::var("CI").is_ok_and(|v| v == "true" || v == "1")
 }
 
-/// A tracer of one test: GPU tests run one at a time, each with a tracer
-/// of its own that is dropped (with its pipelines) before the next test
-/// starts. On a CPU adapter with a cold shader cache, lavapipe holds
-/// several gigabytes per compiled pipeline until the pipeline is dropped
-/// (BENCHMARKS.md "GPU", session 13): a tracer shared by every test, or
-/// tests in parallel, passed 20 GB; a test compiles at most two.
+/// A tracer of one test: GPU tests run one at a time, each with its
+/// tracers, dropped (with their pipelines) before the next test starts. On
+/// a CPU adapter with a cold shader cache, lavapipe holds several gigabytes
+/// per compiled pipeline until the pipeline is dropped (BENCHMARKS.md
+/// "GPU", sessions 13 and 25): a tracer shared by every test, or tests in
+/// parallel, passed 20 GB.
 struct Gpu {
     tracer: GpuTracer,
     _one: MutexGuard<'static, ()>,
@@ -216,10 +217,23 @@ fn run_with(gpu: &GpuTracer, methods: &[Method], scenes: &[SceneCase], legs: boo
     failures
 }
 
-/// [`run_with`] a tracer of its own; asserts that nothing failed.
-fn run(methods: &[Method], scenes: &[SceneCase], legs: bool) {
-    let Some(gpu) = gpu() else { return };
-    assert_none_failed(&run_with(&gpu, methods, scenes, legs));
+/// [`run_with`] every scene of [`SCENES`]: with one tracer for all when
+/// `methods` is sphere tracing alone (one module for every kind), else one
+/// tracer per kind; asserts that nothing failed.
+fn run(methods: &[Method], legs: bool) {
+    let mut failures = Vec::new();
+    if methods == [Method::Sphere] {
+        let Some(gpu) = gpu() else { return };
+        for scenes in SCENES {
+            failures.extend(run_with(&gpu, methods, scenes, legs));
+        }
+    } else {
+        for scenes in SCENES {
+            let Some(gpu) = gpu() else { return };
+            failures.extend(run_with(&gpu, methods, scenes, legs));
+        }
+    }
+    assert_none_failed(&failures);
 }
 
 /// Fails the test with every failure listed, if any.
@@ -362,7 +376,7 @@ fn short_legs_match(
 /// than one dispatch on a CPU adapter) and still matches the CPU.
 #[test]
 fn sphere_matches_the_cpu_in_both_modes() {
-    run(&[Method::Sphere], SCENES, true);
+    run(&[Method::Sphere], true);
 }
 
 /// Sphere tracing of flat blobtrees (the `sphere-blobtree` module's
@@ -450,7 +464,7 @@ fn tiled_blobtrees_match(gpu: &GpuTracer) -> Vec<String> {
 /// and transparent, with the issue's thresholds.
 #[test]
 fn segment_matches_the_cpu_in_both_modes() {
-    run(&[Method::Segment], SCENES, true);
+    run(&[Method::Segment], true);
 }
 
 /// Forward linear inclusions from Taylor bounds (the leg modules'
@@ -458,14 +472,14 @@ fn segment_matches_the_cpu_in_both_modes() {
 /// the scenes ([`SCENES`]), opaque and transparent, with the issue's thresholds.
 #[test]
 fn linear_taylor_matches_the_cpu_in_both_modes() {
-    run(&[Method::LinearTaylor], SCENES, true);
+    run(&[Method::LinearTaylor], true);
 }
 
 /// [`linear_taylor_matches_the_cpu_in_both_modes`] for forward quadratic
 /// inclusions (`trace_quadratic_taylor_*`).
 #[test]
 fn quadratic_taylor_matches_the_cpu_in_both_modes() {
-    run(&[Method::QuadraticTaylor], SCENES, true);
+    run(&[Method::QuadraticTaylor], true);
 }
 
 #[test]
@@ -522,5 +536,5 @@ const TRACE_PIXELS: &str = "needs the trace_pixels entry point (BOUNDTRACE_SHADE
 #[ignore = "needs trace_pixels (BOUNDTRACE_SHADER_FEATURES=trace) and a driver that compiles it: lavapipe cannot (BENCHMARKS.md GPU)"]
 fn every_scene_and_method_matches_the_cpu_in_both_modes() {
     eprintln!("{TRACE_PIXELS}");
-    run(&METHODS, SCENES, false);
+    run(&METHODS, false);
 }
