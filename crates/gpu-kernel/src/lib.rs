@@ -641,47 +641,46 @@ trait LegTrace: Copy {
     ) -> Leg<f32>;
 }
 
-/// Sphere tracing ([`trace_sphere_resume_in`]).
-#[derive(Clone, Copy)]
-struct SphereTrace;
+/// A [`LegTrace`] type: `$trace` traces `$method` in legs with the
+/// tracer's `$resume` (`trace_*_resume_in`).
+macro_rules! leg_trace {
+    ($(#[$doc:meta])* $trace:ident, $method:expr, $resume:path) => {
+        $(#[$doc])*
+        #[derive(Clone, Copy)]
+        struct $trace;
 
-impl LegTrace for SphereTrace {
-    const METHOD: Method = Method::Sphere;
-    fn trace<F: Field<f32>>(
-        field: &F,
-        ray: &Ray<f32>,
-        span: [f32; 2],
-        mode: Mode,
-        params: &Params<f32>,
-        roots: &mut [Root<f32>],
-        window: [usize; 2],
-        state: &mut MarchState<f32>,
-        guard: &mut LimitProbe,
-    ) -> Leg<f32> {
-        trace_sphere_resume_in(field, ray, span, mode, params, roots, window, state, guard)
-    }
+        impl LegTrace for $trace {
+            const METHOD: Method = $method;
+            fn trace<F: Field<f32>>(
+                field: &F,
+                ray: &Ray<f32>,
+                span: [f32; 2],
+                mode: Mode,
+                params: &Params<f32>,
+                roots: &mut [Root<f32>],
+                window: [usize; 2],
+                state: &mut MarchState<f32>,
+                guard: &mut LimitProbe,
+            ) -> Leg<f32> {
+                $resume(field, ray, span, mode, params, roots, window, state, guard)
+            }
+        }
+    };
 }
 
-/// Segment tracing ([`trace_segment_resume_in`]).
-#[derive(Clone, Copy)]
-struct SegmentTrace;
+leg_trace!(
+    /// Sphere tracing ([`trace_sphere_resume_in`]).
+    SphereTrace,
+    Method::Sphere,
+    trace_sphere_resume_in
+);
 
-impl LegTrace for SegmentTrace {
-    const METHOD: Method = Method::Segment;
-    fn trace<F: Field<f32>>(
-        field: &F,
-        ray: &Ray<f32>,
-        span: [f32; 2],
-        mode: Mode,
-        params: &Params<f32>,
-        roots: &mut [Root<f32>],
-        window: [usize; 2],
-        state: &mut MarchState<f32>,
-        guard: &mut LimitProbe,
-    ) -> Leg<f32> {
-        trace_segment_resume_in(field, ray, span, mode, params, roots, window, state, guard)
-    }
-}
+leg_trace!(
+    /// Segment tracing ([`trace_segment_resume_in`]).
+    SegmentTrace,
+    Method::Segment,
+    trace_segment_resume_in
+);
 
 /// The leg kernels' [`PixelKernel`]: one leg of the pixel's trace with
 /// `M`, or its shading.
@@ -970,25 +969,7 @@ pub fn render_segment_leg_in<K: SceneKinds>(
 /// [`render_pixel`]'s, bit for bit.
 macro_rules! leg_method {
     ($(#[$doc:meta])* $render:ident, $trace:ident, $method:expr, $resume:path) => {
-        #[derive(Clone, Copy)]
-        struct $trace;
-
-        impl LegTrace for $trace {
-            const METHOD: Method = $method;
-            fn trace<F: Field<f32>>(
-                field: &F,
-                ray: &Ray<f32>,
-                span: [f32; 2],
-                mode: Mode,
-                params: &Params<f32>,
-                roots: &mut [Root<f32>],
-                window: [usize; 2],
-                state: &mut MarchState<f32>,
-                guard: &mut LimitProbe,
-            ) -> Leg<f32> {
-                $resume(field, ray, span, mode, params, roots, window, state, guard)
-            }
-        }
+        leg_trace!($trace, $method, $resume);
 
         $(#[$doc])*
         #[allow(clippy::too_many_arguments)]
