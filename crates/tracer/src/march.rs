@@ -156,7 +156,15 @@ pub(crate) struct RootSlots<'a, T> {
     pub(crate) len: usize,
 }
 
-impl<T: Copy> RootSlots<'_, T> {
+impl<'a, T: Copy> RootSlots<'a, T> {
+    /// The slots `window = [base, len]` of `buf` (the caller checked that
+    /// they lie inside it).
+    #[inline]
+    pub(crate) fn new(buf: &'a mut [Root<T>], window: [usize; 2]) -> Self {
+        let [base, len] = window;
+        Self { buf, base, len }
+    }
+
     #[inline]
     fn get(&self, i: usize) -> Root<T> {
         self.buf[self.base + i]
@@ -1604,11 +1612,7 @@ mod tests {
         let span = [0.0, 6.0];
         let mut buf = [NONE; 2];
         let mut st = MarchState::start(span, &p);
-        let slots = RootSlots {
-            buf: &mut buf,
-            base: 0,
-            len: 2,
-        };
+        let slots = RootSlots::new(&mut buf, [0, 2]);
         let mut calls = 0;
         let mut guard = Faulty {
             left: 1,

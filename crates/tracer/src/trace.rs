@@ -161,12 +161,7 @@ pub fn trace_in<T: Real, F: Field<T>>(
     if !accepts(span, params, roots.len(), window) {
         return unsupported;
     }
-    let [base, len] = window;
-    let slots = march::RootSlots {
-        buf: roots,
-        base,
-        len,
-    };
+    let slots = march::RootSlots::new(roots, window);
     match method {
         #[cfg(not(target_arch = "spirv"))]
         Method::Interval => {
@@ -222,12 +217,7 @@ pub fn trace_sphere_in<T: Real, F: Field<T>>(
     if !accepts(span, params, roots.len(), window) {
         return unsupported_trace(span);
     }
-    let [base, len] = window;
-    let slots = march::RootSlots {
-        buf: roots,
-        base,
-        len,
-    };
+    let slots = march::RootSlots::new(roots, window);
     march::sphere(field, ray, span, mode, params, slots)
 }
 
@@ -315,12 +305,7 @@ pub fn trace_sphere_resume_in<T: Real, F: Field<T>, G: march::StepGuard>(
     if !accepts(span, params, roots.len(), window) {
         return Leg::unsupported(span);
     }
-    let [base, len] = window;
-    let slots = march::RootSlots {
-        buf: roots,
-        base,
-        len,
-    };
+    let slots = march::RootSlots::new(roots, window);
     let next = march::sphere_run(field, ray, span, mode, params, slots, state, guard);
     Leg::of(next)
 }
@@ -415,12 +400,7 @@ pub fn trace_resume_in<T: Real, F: Field<T>, G: march::StepGuard>(
     if !resumable || !accepts(span, params, roots.len(), window) {
         return Leg::unsupported(span);
     }
-    let [base, len] = window;
-    let slots = march::RootSlots {
-        buf: roots,
-        base,
-        len,
-    };
+    let slots = march::RootSlots::new(roots, window);
     let next = if method == Method::Sphere {
         march::sphere_run(field, ray, span, mode, params, slots, state, guard)
     } else {
@@ -533,12 +513,7 @@ fn window_resume_in<B: march::WindowBounds, T: Real, F: Field<T>, G: march::Step
     if !accepts(span, params, roots.len(), window) {
         return Leg::unsupported(span);
     }
-    let [base, len] = window;
-    let slots = march::RootSlots {
-        buf: roots,
-        base,
-        len,
-    };
+    let slots = march::RootSlots::new(roots, window);
     let next = march::window_run::<B, _, _, _>(
         field, ray, span, mode, params, slots, state, guard, method,
     );
