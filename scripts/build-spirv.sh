@@ -28,17 +28,6 @@ target=${CARGO_TARGET_DIR:-$root/target}
 case "$target" in /*) ;; *) target="$root/$target" ;; esac
 out="$target/spirv/boundtrace-gpu-shader.spv"
 
-# With BOUNDTRACE_SPIRV_READY=DIR (scripts/test.sh), the GPU tests run while
-# the later modules build: the modules of an earlier build are removed first
-# (a test's tracer loads every module present, and a stale one may have
-# another layout), and an empty file DIR/NAME.spv marks each module once it
-# is written (the builder renames a finished copy into place).
-ready=${BOUNDTRACE_SPIRV_READY:-}
-if [ -n "$ready" ]; then
-    mkdir -p "$ready"
-    rm -f "$target"/spirv/boundtrace-gpu-shader*.spv
-fi
-
 # Builds one module: `module FEATURES PATH` (FEATURES empty: the shader
 # crate's default features). `cargo run` puts the codegen backend
 # (librustc_codegen_spirv.so) and the nightly's rustc libraries on the
@@ -49,7 +38,6 @@ module() {
         if [ -n "$features" ]; then export BOUNDTRACE_SHADER_FEATURES=$features; fi &&
         CARGO_TARGET_DIR="$target/spirv-builder" cargo +"$toolchain" run --release --locked -q -- \
             "$path" "$target/spirv-shader")
-    if [ -n "$ready" ]; then : >"$ready/$(basename "$path")"; fi
 }
 
 echo "==> building the SPIR-V builder (cached in $target/spirv-builder) and compiling crates/gpu-shader"

@@ -18,19 +18,14 @@ step "pinned nightly for rust-gpu and cargo-fuzz (installed when missing)"
 scripts/nightly.sh >/dev/null
 
 # The GPU preparation (lavapipe when no Vulkan driver, and the eight
-# SPIR-V modules: ~40 min cold on 2 cores, one core at a time, with brief
-# peaks of ~18 GB) runs in the background from here, while the CPU-only
-# steps below run beside it on one cargo job (so that the two fit in
-# memory). Once those are done, the GPU tests that need little memory
-# (~1 GB: sphere and segment tracing, blobtrees) run as soon as their
-# modules are built (scripts/build-spirv.sh marks each one in
-# $BOUNDTRACE_SPIRV_READY), on the core the module builds leave free; the
-# forward-Taylor tests (lavapipe compiles each of their pipelines in
-# several GB) and the rest wait until the last module is built: beside a
-# module build they came within 0.5 GB of this machine's 24 GB.
+# SPIR-V modules: ~40 min cold on 2 cores, one core at a time, with peaks
+# of 14-18 GB) runs in the background from here, while the CPU-only steps
+# below run beside it on one cargo job (so that the two fit in memory).
+# The GPU tests wait until the last module is built: beside a module build
+# even the sphere difftest left too little of this machine's 24 GB (a
+# module build was killed by the kernel's OOM killer, session 26; the
+# forward-Taylor tests alone take 13-16 GB).
 gpu_log=$(mktemp "${TMPDIR:-/tmp}/boundtrace-gpu-build.XXXXXX")
-BOUNDTRACE_SPIRV_READY=$(mktemp -d "${TMPDIR:-/tmp}/boundtrace-spirv-ready.XXXXXX")
-export BOUNDTRACE_SPIRV_READY
 step "GPU: Vulkan driver (lavapipe when none) and the SPIR-V modules (rust-gpu), in the background (log: $gpu_log)"
 scripts/gpu-test.sh >"$gpu_log" 2>&1 &
 gpu_pid=$!
@@ -53,21 +48,6 @@ gpu_reap() {
         echo "GPU preparation (scripts/gpu-test.sh) failed (status $gpu_status)" >&2
         exit 1
     fi
-}
-# Waits until the named modules (file names under target/spirv) are built.
-wait_modules() {
-    local m
-    for m in "$@"; do
-        until [ -e "$BOUNDTRACE_SPIRV_READY/$m" ]; do
-            gpu_reap
-            if [ -n "$gpu_status" ] && [ ! -e "$BOUNDTRACE_SPIRV_READY/$m" ]; then
-                cat "$gpu_log"
-                echo "GPU preparation ended without building $m" >&2
-                exit 1
-            fi
-            sleep 5
-        done
-    done
 }
 cpu_jobs=${CARGO_BUILD_JOBS:-}
 export CARGO_BUILD_JOBS=1
@@ -116,21 +96,27 @@ if [ -z "${XDG_RUNTIME_DIR:-}" ]; then
     mkdir -p "$XDG_RUNTIME_DIR" && chmod 0700 "$XDG_RUNTIME_DIR"
 fi
 
-# The GPU tests (they fail, never skip, with CI=true), each group once its
-# modules are built; the last step runs every test of the crate not run
-# before (so a new test cannot be left out).
+# The GPU tests (they fail, never skip, with CI=true), once the modules
+# are built: the difftests in groups, one process each (a tracer's
+# pipelines take several GB on lavapipe), then every test of the crate not
+# run before (so a new test cannot be left out).
 step "GPU tests: building them while the SPIR-V modules build"
 cargo test -p boundtrace-gpu --no-run
 cargo test -p boundtrace-cli --features gpu --test cli --no-run
+
+step "waiting for the GPU preparation (the SPIR-V modules)"
+until [ -n "$gpu_status" ]; do
+    gpu_reap
+    sleep 5
+done
+trap - EXIT
+cat "$gpu_log"
+rm -f "$gpu_log"
+
 done_tests=()
-# `gpu_tests "MODULES" TESTS…`: waits for the modules, runs the difftests
-# named (exactly).
+# `gpu_tests TESTS…`: runs the difftests named (exactly).
 gpu_tests() {
-    local modules=$1
-    shift
-    # shellcheck disable=SC2086 # a list of file names
-    wait_modules $modules
-    step "GPU difftests $* (modules: $modules)"
+    step "GPU difftests $*"
     local out
     out=$(mktemp "${TMPDIR:-/tmp}/boundtrace-gpu-tests.XXXXXX")
     cargo test -p boundtrace-gpu --test difftest -- --exact "$@" 2>&1 | tee "$out"
@@ -142,24 +128,11 @@ gpu_tests() {
     rm -f "$out"
     done_tests+=("$@")
 }
-m=boundtrace-gpu-shader
-gpu_tests "$m.spv" sphere_matches_the_cpu_in_both_modes
-gpu_tests "$m-segment-blobs.spv $m-segment-groups.spv" segment_matches_the_cpu_in_both_modes
-gpu_tests "$m-sphere-blobtree.spv" sphere_matches_the_cpu_on_blobtrees_whole_and_tiled
-
-step "waiting for the GPU preparation (the remaining GPU tests need more memory than a module build leaves)"
-until [ -n "$gpu_status" ]; do
-    gpu_reap
-    sleep 2
-done
-trap - EXIT
-cat "$gpu_log"
-
-gpu_tests "$m-linear-taylor-blobs.spv $m-linear-taylor-groups.spv" \
-    linear_taylor_matches_the_cpu_in_both_modes
-gpu_tests "$m-quadratic-taylor-blobs.spv $m-quadratic-taylor-groups.spv" \
-    quadratic_taylor_matches_the_cpu_in_both_modes
-rm -rf "$gpu_log" "$BOUNDTRACE_SPIRV_READY"
+gpu_tests sphere_matches_the_cpu_in_both_modes
+gpu_tests segment_matches_the_cpu_in_both_modes
+gpu_tests sphere_matches_the_cpu_on_blobtrees_whole_and_tiled
+gpu_tests linear_taylor_matches_the_cpu_in_both_modes
+gpu_tests quadratic_taylor_matches_the_cpu_in_both_modes
 
 step "cargo test -p boundtrace-gpu: every other test (unit tests, probes, the rest of the difftests)"
 skips=()
