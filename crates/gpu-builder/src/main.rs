@@ -67,9 +67,8 @@ fn main() -> ExitCode {
             return ExitCode::FAILURE;
         }
     }
-    // Copied beside the target, then renamed over it: a reader (a test that
-    // runs while the next module builds) sees the old file or the new one,
-    // never half of one.
+    // Copied beside the target, then renamed over it: an interrupted copy
+    // never leaves half a module where the host loads it.
     let mut partial = out.clone().into_os_string();
     partial.push(".partial");
     let partial = PathBuf::from(partial);
