@@ -71,6 +71,17 @@ pub trait Real: num_traits::Float + Math + 'static {
     /// exactly unless the product leaves the normal range.
     fn significant_bits(self) -> u32;
 
+    /// A lower bound of `self · b` (`0 · x = 0`, also for infinite `x`):
+    /// [`round::mul_down`](crate::round::mul_down), which calls it. For
+    /// `f32` the rounded product is compared with the exact one, computed
+    /// in `f64` (a product of two 24-bit significands is exact there), so
+    /// the bound is the rounded product itself whenever that is not above
+    /// the exact one; for `f64` the product is stepped down unless a cheap
+    /// test proves it exact. (The `f32` test is also a quarter of the
+    /// other's size in a shader, where every call is inlined: BENCHMARKS.md
+    /// "GPU".)
+    fn mul_down(self, b: Self) -> Self;
+
     /// Converts from `f64`, rounding to nearest.
     fn from_f64(x: f64) -> Self;
 
@@ -114,7 +125,7 @@ pub trait Real: num_traits::Float + Math + 'static {
 }
 
 macro_rules! impl_real {
-    ($t:ident, $bits:ident) => {
+    ($t:ident, $bits:ident, $mul_down:path) => {
         impl Real for $t {
             const ZERO: Self = 0.0;
             const ONE: Self = 1.0;
@@ -184,6 +195,11 @@ macro_rules! impl_real {
             }
 
             #[cfg_attr(not(target_arch = "spirv"), inline)]
+            fn mul_down(self, b: Self) -> Self {
+                $mul_down(self, b)
+            }
+
+            #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn significant_bits(self) -> u32 {
                 const FRAC: u32 = $t::MANTISSA_DIGITS - 1;
                 let bits = self.to_bits();
@@ -215,8 +231,8 @@ macro_rules! impl_real {
     };
 }
 
-impl_real!(f32, u32);
-impl_real!(f64, u64);
+impl_real!(f32, u32, crate::round::mul_down_f32);
+impl_real!(f64, u64, crate::round::mul_down_tested);
 
 #[cfg(test)]
 mod tests {

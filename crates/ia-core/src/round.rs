@@ -83,9 +83,17 @@ pub(crate) fn product_is_exact<T: Real>(a: T, b: T, p: T) -> bool {
         && a.significant_bits() + b.significant_bits() <= T::MANTISSA_DIGITS
 }
 
-/// A lower bound of `a · b` (`0 · x = 0`, also for infinite `x`).
+/// A lower bound of `a · b` (`0 · x = 0`, also for infinite `x`); see
+/// [`Real::mul_down`] for how each type proves it.
 #[cfg_attr(not(target_arch = "spirv"), inline)]
 pub fn mul_down<T: Real>(a: T, b: T) -> T {
+    a.mul_down(b)
+}
+
+/// [`mul_down`] by [`product_is_exact`]: the rounded product, stepped down
+/// unless the test proves it exact (`f64`'s [`Real::mul_down`]).
+#[cfg_attr(not(target_arch = "spirv"), inline)]
+pub(crate) fn mul_down_tested<T: Real>(a: T, b: T) -> T {
     if a == T::ZERO || b == T::ZERO {
         return T::ZERO;
     }
@@ -94,6 +102,26 @@ pub fn mul_down<T: Real>(a: T, b: T) -> T {
         p
     } else {
         p.next_down()
+    }
+}
+
+/// `f32`'s [`Real::mul_down`]: the exact product of two `f32` values is an
+/// `f64` (48 significand bits, exponents far inside `f64`'s range), so the
+/// rounded product `p` is a lower bound exactly when `p ≤` that `f64`
+/// (compared exactly); otherwise the float below `p` is (round to nearest
+/// is off by less than one step). Infinite operands give infinite `p`
+/// equal to the `f64` product; an overflowed `p` (`+∞` above a finite
+/// product) steps down to `f32::MAX`; NaN stays NaN.
+#[cfg_attr(not(target_arch = "spirv"), inline)]
+pub(crate) fn mul_down_f32(a: f32, b: f32) -> f32 {
+    if a == 0.0 || b == 0.0 {
+        return 0.0;
+    }
+    let p = a * b;
+    if f64::from(p) <= f64::from(a) * f64::from(b) {
+        p
+    } else {
+        Real::next_down(p)
     }
 }
 
@@ -322,6 +350,67 @@ fn powu_loop<T: Real>(x: T, mut n: u32, up: bool) -> T {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `f32`'s product bound against the exact product (an `f64`): never
+    /// above it, less than one float step below it, and never below the
+    /// bit-count test's bound; zeros, infinities, overflow, subnormals and
+    /// NaN included.
+    #[test]
+    fn f32_mul_down_is_the_tightest_lower_bound() {
+        let mut vals = vec![
+            0.0f32,
+            -0.0,
+            1.0,
+            -1.0,
+            3.0,
+            0.1,
+            -0.7,
+            f32::MAX,
+            -f32::MAX,
+            f32::MIN_POSITIVE,
+            f32::from_bits(1),
+            -f32::from_bits(3),
+            1.0 + f32::EPSILON,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+        ];
+        let mut x = 0x2545_f491u32;
+        for _ in 0..400 {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            let v = f32::from_bits(x);
+            if v.is_finite() {
+                vals.push(v);
+            }
+        }
+        for &a in &vals {
+            for &b in &vals {
+                let lo = mul_down_f32(a, b);
+                let hi = -mul_down_f32(-a, b);
+                if a == 0.0 || b == 0.0 {
+                    assert_eq!((lo, hi), (0.0, 0.0));
+                    continue;
+                }
+                let exact = f64::from(a) * f64::from(b);
+                assert!(f64::from(lo) <= exact && exact <= f64::from(hi), "{a} {b}");
+                if lo.is_finite() {
+                    assert!(
+                        f64::from(Real::next_up(lo)) > exact,
+                        "{a} {b}: {lo} not tight"
+                    );
+                }
+                assert!(lo >= mul_down_tested(a, b), "{a} {b}");
+            }
+        }
+        assert!(mul_down_f32(f32::NAN, 2.0).is_nan());
+        // Exact, but beyond the bit-count test (2 + 23 significant bits):
+        // 3·(1 + 2⁻²²) = 3 + 3·2⁻²².
+        let (a, b) = (3.0f32, 1.0 + 2.0 * f32::EPSILON);
+        assert_eq!(f64::from(a * b), f64::from(a) * f64::from(b));
+        assert_eq!(mul_down_f32(a, b), a * b);
+        assert!(mul_down_tested(a, b) < a * b);
+    }
 
     /// The GPU's power ([`powi_unrolled`]) against the standard library's
     /// `powi` (compiler-rt), bit for bit, over signs, magnitudes from

@@ -74,62 +74,152 @@ impl Composition {
     }
 }
 
-/// The monotone functions composed by the rules here.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) enum Unary<T> {
-    Exp,
-    Ln,
-    Sqrt,
-    Recip,
-    /// `max(x, 0)^p` for a non-integer `p` (`x > 0` for `p < 0`).
-    Pow(T),
-    /// `sin x`, composed only on a quarter period where it is monotone
-    /// and convex or concave.
-    Sin,
-    /// `cos x`, as `Sin`.
-    Cos,
-}
+/// A monotone function composed by the rules here: one zero-sized type per
+/// function ([`Exp`], [`Ln`], [`Sqrt`], [`Recip`], [`Pow`], [`Sin`],
+/// [`Cos`]), so that a composition instantiates its own function only. (A
+/// run-time choice among them put every function's enclosure at every call
+/// site; a GPU driver inlines each call, and the `ForwardQuadratic` bottom-up
+/// bounds of a blob scene came to 36 million SPIR-V instructions, most of
+/// them sines, cosines and integer powers no blob evaluates: BENCHMARKS.md
+/// "GPU".)
+pub(crate) trait Unary<T: Real>: Copy {
+    /// `sin` (for `sin`/`cos`: which quarter periods are convex).
+    const IS_SIN: bool = false;
 
-impl<T: Real> Unary<T> {
     /// A sound enclosure of `φ(x)` (IEEE 1788 domain semantics).
-    #[cfg_attr(not(target_arch = "spirv"), inline)]
-    pub fn eval(self, x: Interval<T>) -> Interval<T> {
-        match self {
-            Self::Exp => x.exp(),
-            Self::Ln => x.ln(),
-            Self::Sqrt => x.sqrt(),
-            Self::Recip => x.recip(),
-            Self::Pow(p) => x.pow(p),
-            Self::Sin => x.sin(),
-            Self::Cos => x.cos(),
-        }
+    fn eval(self, x: Interval<T>) -> Interval<T>;
+
+    /// A sound enclosure of `φ'(x)` at a point of the open domain.
+    fn deriv(self, x: T) -> Interval<T>;
+
+    /// Defined for `x ≥ 0` only, bounded as `φ(max(x, 0))` (√ and positive
+    /// powers).
+    fn nonneg_domain(self) -> bool {
+        false
+    }
+
+    /// `φ'(x)` given `v ⊇ φ(x)`, where the derivative is a function of the
+    /// value (reused by the tangent rule); otherwise [`deriv`](Self::deriv).
+    fn deriv_from(self, x: T, v: Interval<T>) -> Interval<T> {
+        let _ = v;
+        self.deriv(x)
     }
 
     /// `φ` at a point, clamping the argument into the closed domain for the
     /// `x ≥ 0` functions (their bounds use `φ(max(x, 0))`).
-    #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn at(self, x: T) -> Interval<T> {
-        let x = match self {
-            Self::Sqrt => x.max(T::ZERO),
-            Self::Pow(p) if p > T::ZERO => x.max(T::ZERO),
-            _ => x,
+        let x = if self.nonneg_domain() {
+            x.max(T::ZERO)
+        } else {
+            x
         };
         self.eval(Interval::point(x))
     }
+}
 
-    /// A sound enclosure of `φ'(x)` at a point of the open domain.
-    #[cfg_attr(not(target_arch = "spirv"), inline)]
+/// `eˣ` as a [`Unary`] function.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Exp;
+/// `ln x` as a [`Unary`] function.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Ln;
+/// `√x` as a [`Unary`] function.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Sqrt;
+/// `1/x` as a [`Unary`] function.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Recip;
+/// `max(x, 0)^p` for a non-integer `p` (`x > 0` for `p < 0`) as a
+/// [`Unary`] function.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Pow<T>(pub T);
+/// `sin x` as a [`Unary`] function.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Sin;
+/// `cos x` as a [`Unary`] function.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Cos;
+
+impl<T: Real> Unary<T> for Exp {
+    fn eval(self, x: Interval<T>) -> Interval<T> {
+        x.exp()
+    }
     fn deriv(self, x: T) -> Interval<T> {
-        let xi = Interval::point(x);
-        match self {
-            Self::Exp => xi.exp(),
-            Self::Ln => xi.recip(),
-            Self::Sqrt => (xi.sqrt() * T::TWO).recip(),
-            Self::Recip => -(xi.sqr().recip()),
-            Self::Pow(p) => xi.pow(p - T::ONE) * p,
-            Self::Sin => xi.cos(),
-            Self::Cos => -xi.sin(),
+        Interval::point(x).exp()
+    }
+    fn deriv_from(self, _x: T, v: Interval<T>) -> Interval<T> {
+        v
+    }
+}
+
+impl<T: Real> Unary<T> for Ln {
+    fn eval(self, x: Interval<T>) -> Interval<T> {
+        x.ln()
+    }
+    fn deriv(self, x: T) -> Interval<T> {
+        Interval::point(x).recip()
+    }
+}
+
+impl<T: Real> Unary<T> for Sqrt {
+    fn nonneg_domain(self) -> bool {
+        true
+    }
+    fn eval(self, x: Interval<T>) -> Interval<T> {
+        x.sqrt()
+    }
+    fn deriv(self, x: T) -> Interval<T> {
+        (Interval::point(x).sqrt() * T::TWO).recip()
+    }
+    fn deriv_from(self, x: T, v: Interval<T>) -> Interval<T> {
+        if x > T::ZERO {
+            (v * T::TWO).recip()
+        } else {
+            self.deriv(x)
         }
+    }
+}
+
+impl<T: Real> Unary<T> for Recip {
+    fn eval(self, x: Interval<T>) -> Interval<T> {
+        x.recip()
+    }
+    fn deriv(self, x: T) -> Interval<T> {
+        -(Interval::point(x).sqr().recip())
+    }
+    fn deriv_from(self, _x: T, v: Interval<T>) -> Interval<T> {
+        -v.sqr()
+    }
+}
+
+impl<T: Real> Unary<T> for Pow<T> {
+    fn eval(self, x: Interval<T>) -> Interval<T> {
+        x.pow(self.0)
+    }
+    fn deriv(self, x: T) -> Interval<T> {
+        Interval::point(x).pow(self.0 - T::ONE) * self.0
+    }
+    fn nonneg_domain(self) -> bool {
+        self.0 > T::ZERO
+    }
+}
+
+impl<T: Real> Unary<T> for Sin {
+    const IS_SIN: bool = true;
+    fn eval(self, x: Interval<T>) -> Interval<T> {
+        x.sin()
+    }
+    fn deriv(self, x: T) -> Interval<T> {
+        Interval::point(x).cos()
+    }
+}
+
+impl<T: Real> Unary<T> for Cos {
+    fn eval(self, x: Interval<T>) -> Interval<T> {
+        x.cos()
+    }
+    fn deriv(self, x: T) -> Interval<T> {
+        -Interval::point(x).sin()
     }
 }
 
@@ -173,15 +263,10 @@ pub(crate) fn unbounded<T: Real>(start: T, upper: bool) -> Side<T> {
 /// The tangent side: a lower bound of convex `φ ∘ q` (`upper = false`) or an
 /// upper bound of concave `φ ∘ q` (`upper = true`), valid for every `τ` where
 /// `q(τ)` lies in the region of convexity.
-pub(crate) fn tangent<T: Real>(phi: Unary<T>, q: Side<T>, upper: bool) -> Side<T> {
+pub(crate) fn tangent<T: Real, P: Unary<T>>(phi: P, q: Side<T>, upper: bool) -> Side<T> {
     let v = phi.at(q.s);
     // Reuse the value where the derivative is a function of it.
-    let d = match phi {
-        Unary::Exp => v,
-        Unary::Sqrt if q.s > T::ZERO => (v * T::TWO).recip(),
-        Unary::Recip => -v.sqr(),
-        _ => phi.deriv(q.s),
-    };
+    let d = phi.deriv_from(q.s, v);
     if v.is_empty() || d.is_empty() {
         let s = if upper { T::INFINITY } else { T::NEG_INFINITY };
         return unbounded(s, upper);
@@ -213,8 +298,8 @@ pub(crate) fn tangent<T: Real>(phi: Unary<T>, q: Side<T>, upper: bool) -> Side<T
 /// outward-rounded range is wider than the truth and could otherwise reach
 /// across the pole. For sqrt-like functions bounded as `φ(max(x, 0))` it is
 /// `[0, ∞]`, which keeps the chord to `(0, φ(0))` valid for negative `x` too.
-pub(crate) fn chord<T: Real>(
-    phi: Unary<T>,
+pub(crate) fn chord<T: Real, P: Unary<T>>(
+    phi: P,
     q: Side<T>,
     h: T,
     upper: bool,
@@ -259,9 +344,21 @@ pub(crate) fn chord<T: Real>(
         return (unbounded(if upper { v0.hi() } else { v0.lo() }, upper), h);
     }
     let l0 = if upper { v0.hi() } else { v0.lo() };
-    if rise && fall && mode == Composition::RelaxStart {
+    let relax = rise && fall && mode == Composition::RelaxStart;
+    // φ at the range's ends where a slope needs it, each evaluated at one
+    // call site (a GPU driver inlines every call).
+    let p0 = if relax || (fall && i0 < x0) {
+        phi.at(i0)
+    } else {
+        Interval::EMPTY
+    };
+    let p1 = if relax || (rise && i1 > x0) {
+        phi.at(i1)
+    } else {
+        Interval::EMPTY
+    };
+    if relax {
         // One chord over [I₀, I₁]; its value at x₀ replaces the start.
-        let (p0, p1) = (phi.at(i0), phi.at(i1));
         if p0.is_empty() || p1.is_empty() || !(i1 > i0) {
             return (unbounded(l0, upper), h);
         }
@@ -280,7 +377,7 @@ pub(crate) fn chord<T: Real>(
     }
     // Left slope (x ∈ [I₀, x₀]) and right slope (x ∈ [x₀, I₁]).
     let left = if fall && i0 < x0 {
-        let p = phi.at(i0);
+        let p = p0;
         if p.is_empty() || !p.is_bounded() {
             return (unbounded(l0, upper), h);
         } else if upper {
@@ -293,7 +390,7 @@ pub(crate) fn chord<T: Real>(
         None
     };
     let right = if rise && i1 > x0 {
-        let p = phi.at(i1);
+        let p = p1;
         if p.is_empty() || !p.is_bounded() {
             return (unbounded(l0, upper), h);
         } else if upper {
@@ -341,7 +438,7 @@ mod tests {
             Composition::RelaxStart,
             Composition::RelaxMax,
         ] {
-            let (up, h) = chord(Unary::Exp, q, 3.0, true, mode, ALL);
+            let (up, h) = chord(Exp, q, 3.0, true, mode, ALL);
             assert!(h > 0.0 && h <= 3.0);
             if mode == Composition::ValidityInterval {
                 assert!(h <= 2.0);
@@ -349,7 +446,7 @@ mod tests {
                 assert_eq!(h, 3.0);
             }
             check(f64::exp, q, up, h, true);
-            let lo = tangent(Unary::Exp, q, false);
+            let lo = tangent(Exp, q, false);
             check(f64::exp, q, lo, h, false);
             if mode != Composition::RelaxStart {
                 assert_eq!(up.s, 1.0);
@@ -361,7 +458,7 @@ mod tests {
     fn sqrt_lower_chord_through_zero() {
         let q = Side::new(4.0f64, -3.0, 0.0); // goes negative at τ = 4/3
         let (lo, h) = chord(
-            Unary::Sqrt,
+            Sqrt,
             q,
             2.0,
             false,

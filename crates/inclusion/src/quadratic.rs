@@ -388,10 +388,10 @@ impl<T: Real> ForwardQuadratic<T> {
         if !self.is_valid() {
             return self;
         }
-        if n < 0 {
-            return self.powi_pos(n.unsigned_abs()).recip();
-        }
-        self.powi_pos(n as u32)
+        // One call of `powi_pos` for both signs (a GPU driver inlines each
+        // call site: BENCHMARKS.md "GPU").
+        let p = self.powi_pos(n.unsigned_abs());
+        if n < 0 { p.recip() } else { p }
     }
 
     fn powi_pos(self, n: u32) -> Self {
@@ -428,20 +428,49 @@ impl<T: Real> ForwardQuadratic<T> {
     /// The interval is shortened so that the input stays at least half way
     /// from `0` (its start value halved), keeping the chord slopes finite.
     pub fn recip(self) -> Self {
-        self.monotone(Unary::Recip)
+        if !self.is_valid() {
+            return self;
+        }
+        // Convex for x > 0, concave for x < 0.
+        let convex = self.start.lo() > T::ZERO;
+        match self.away_from_pole(true) {
+            Some((h, known)) => self.tangent_chord(compose::Recip, h, false, convex, known, false),
+            None => Self::INVALID,
+        }
     }
 
     /// `eˣ`: convex increasing. The interval is shortened where the upper
     /// argument would exceed its start value by 16 (a growth by
     /// `e¹⁶ ≈ 9·10⁶`), which keeps the chord finite and meaningful.
     pub fn exp(self) -> Self {
-        self.monotone(Unary::Exp)
+        if !self.is_valid() {
+            return self;
+        }
+        // Stop where the upper argument has grown by EXP_GROWTH: the chord
+        // stays finite (no overflow) and meaningful.
+        let fu = self.upper_side();
+        let mut h = self.h;
+        let cap = add_lo(fu.s, T::from_f64(EXP_GROWTH));
+        if cap > fu.s && fu.range_hi(h) > cap {
+            let room = Side::new(sub_lo(cap, fu.s), -fu.a, -fu.b);
+            if let Some(r) = poly::safe_root_pos(room, h) {
+                h = r;
+            }
+        }
+        let all = (T::NEG_INFINITY, T::INFINITY);
+        self.tangent_chord(compose::Exp, h, true, true, all, false)
     }
 
     /// `ln x`: concave increasing; needs a positive start, shortened like
     /// [`recip`](Self::recip).
     pub fn ln(self) -> Self {
-        self.monotone(Unary::Ln)
+        if !self.is_valid() {
+            return self;
+        }
+        match self.away_from_pole(false) {
+            Some((h, known)) => self.tangent_chord(compose::Ln, h, true, false, known, false),
+            None => Self::INVALID,
+        }
     }
 
     /// `√x` (bounded as `√max(x, 0)`): concave increasing. When the upper
@@ -450,7 +479,7 @@ impl<T: Real> ForwardQuadratic<T> {
     /// relaxed start (the one case where the start enclosure is wider than
     /// the rounding margin).
     pub fn sqrt(self) -> Self {
-        self.monotone(Unary::Sqrt)
+        self.concave_power(compose::Sqrt)
     }
 
     /// `x^p` for a real `p`: an integer `p` uses [`powi`](Self::powi);
@@ -464,7 +493,28 @@ impl<T: Real> ForwardQuadratic<T> {
         if p == p.round() && p.abs() < T::from_f64(2147483647.0) {
             return self.powi(p.to_i32().unwrap_or(0));
         }
-        self.monotone(Unary::Pow(p))
+        if !self.is_valid() {
+            return self;
+        }
+        let phi = compose::Pow(p);
+        if p < T::ZERO {
+            // Convex decreasing for x > 0.
+            return match self.away_from_pole(false) {
+                Some((h, known)) => self.tangent_chord(phi, h, false, true, known, false),
+                None => Self::INVALID,
+            };
+        }
+        if p < T::ONE {
+            return self.concave_power(phi);
+        }
+        if self.start.hi() < T::ZERO {
+            return Self::INVALID;
+        }
+        // max(x, 0)^p is convex increasing on all of ℝ; below 0 it has no
+        // tangent, and its lower bound is 0 unless the input starts positive.
+        let nonneg = (T::ZERO, T::INFINITY);
+        let zero_below = !(self.start.lo() > T::ZERO);
+        self.tangent_chord(phi, self.h, true, true, nonneg, zero_below)
     }
 
     /// `sin x`: on a quarter period `[kπ/2, (k+1)π/2]` containing the input's
@@ -475,15 +525,15 @@ impl<T: Real> ForwardQuadratic<T> {
     /// gives both sides, with the distance bounded by the Bézier maximum
     /// (App. C) of the input's sides and 0.
     pub fn sin(self) -> Self {
-        self.trig(Unary::Sin)
+        self.trig(compose::Sin)
     }
 
     /// `cos x`; see [`sin`](Self::sin).
     pub fn cos(self) -> Self {
-        self.trig(Unary::Cos)
+        self.trig(compose::Cos)
     }
 
-    fn trig(self, phi: Unary<T>) -> Self {
+    fn trig<P: Unary<T>>(self, phi: P) -> Self {
         if !self.is_valid() {
             return self;
         }
@@ -504,38 +554,17 @@ impl<T: Real> ForwardQuadratic<T> {
                 let four = T::from_f64(4.0);
                 let r = (k - four * (k / four).floor()).to_u32().unwrap_or(0);
                 // (increasing, convex) on the quarter.
-                let (inc, convex) = match (phi, r) {
-                    (Unary::Sin, 0) => (true, false),
-                    (Unary::Sin, 1) => (false, false),
-                    (Unary::Sin, 2) => (false, true),
-                    (Unary::Sin, _) => (true, true),
-                    (_, 0) => (false, false),
-                    (_, 1) => (false, true),
-                    (_, 2) => (true, true),
-                    _ => (true, false),
+                let (inc, convex) = match (P::IS_SIN, r) {
+                    (true, 0) => (true, false),
+                    (true, 1) => (false, false),
+                    (true, 2) => (false, true),
+                    (true, _) => (true, true),
+                    (false, 0) => (false, false),
+                    (false, 1) => (false, true),
+                    (false, 2) => (true, true),
+                    (false, _) => (true, false),
                 };
-                return match (inc, convex) {
-                    (true, true) => {
-                        let lower = compose::tangent(phi, fl, false);
-                        let (upper, h2) = compose::chord(phi, fu, h, true, mode, all);
-                        Self::from_sides(lower, upper, h2, mode)
-                    }
-                    (true, false) => {
-                        let upper = compose::tangent(phi, fu, true);
-                        let (lower, h2) = compose::chord(phi, fl, h, false, mode, all);
-                        Self::from_sides(lower, upper, h2, mode)
-                    }
-                    (false, true) => {
-                        let lower = compose::tangent(phi, fu, false);
-                        let (upper, h2) = compose::chord(phi, fl, h, true, mode, all);
-                        Self::from_sides(lower, upper, h2, mode)
-                    }
-                    (false, false) => {
-                        let upper = compose::tangent(phi, fl, true);
-                        let (lower, h2) = compose::chord(phi, fu, h, false, mode, all);
-                        Self::from_sides(lower, upper, h2, mode)
-                    }
-                };
+                return self.tangent_chord(phi, h, inc, convex, all, false);
             }
         }
         // 1-Lipschitz: with z the point of the start S nearest to x(τ),
@@ -551,132 +580,119 @@ impl<T: Real> ForwardQuadratic<T> {
         Self::from_sides(lower, upper, h, mode)
     }
 
-    fn monotone(self, phi: Unary<T>) -> Self {
+    /// For the functions with a pole at 0 (`1/x`, `ln x`, `x^p` for
+    /// `p < 0`): `None` unless the input starts positive (or negative, with
+    /// `negative_ok`); otherwise the validity length shortened so that the
+    /// input stays at least half way from 0, and the range it is then known
+    /// to stay in (for [`compose::chord`]).
+    fn away_from_pole(&self, negative_ok: bool) -> Option<(T, (T, T))> {
+        let pos = self.start.lo() > T::ZERO;
+        let neg = self.start.hi() < T::ZERO;
+        if !(pos || (neg && negative_ok)) {
+            return None;
+        }
+        let q = if pos {
+            self.lower_side()
+        } else {
+            self.upper_side().neg()
+        };
+        let (h, floor) = Self::half_way(q, self.h);
+        Some(if pos {
+            (h, (floor, T::INFINITY))
+        } else {
+            (h, (T::NEG_INFINITY, -floor))
+        })
+    }
+
+    /// `φ ∘ self` for `φ` increasing (`inc`) or decreasing and convex or
+    /// concave on the input's range (on `[0, h]`, `known`: the range the
+    /// input is known to stay in): the tangent bounds a convex function
+    /// from below (a concave one from above), the chord from the other side,
+    /// each taking the input side that is extreme in its direction. With
+    /// `zero_tangent` the tangent side is the constant 0 (`max(x, 0)^p`
+    /// for an input not starting positive). One call of each rule, for all
+    /// functions: a GPU driver inlines every call site (BENCHMARKS.md "GPU").
+    fn tangent_chord<P: Unary<T>>(
+        self,
+        phi: P,
+        h: T,
+        inc: bool,
+        convex: bool,
+        known: (T, T),
+        zero_tangent: bool,
+    ) -> Self {
+        let (fl, fu) = (self.lower_side(), self.upper_side());
+        let mode = self.mode.get();
+        let (t_in, c_in) = if inc == convex { (fl, fu) } else { (fu, fl) };
+        let (chord_side, h2) = compose::chord(phi, c_in, h, convex, mode, known);
+        let tangent_side = if zero_tangent {
+            Side::constant(T::ZERO)
+        } else {
+            compose::tangent(phi, t_in, !convex)
+        };
+        if convex {
+            Self::from_sides(tangent_side, chord_side, h2, mode)
+        } else {
+            Self::from_sides(chord_side, tangent_side, h2, mode)
+        }
+    }
+
+    /// `√x` and `max(x, 0)^p` for `0 < p < 1`: concave increasing on
+    /// `x ≥ 0`, `φ(0) = 0`, bounded as `φ(max(x, 0))`; undefined when the
+    /// input starts below 0.
+    fn concave_power<P: Unary<T>>(self, phi: P) -> Self {
         if !self.is_valid() {
             return self;
         }
-        // Undefined at t₀: x < 0 for the x ≥ 0 functions. (The poles of
-        // recip, ln and negative powers are handled per branch below; the
-        // start value itself comes from the sides, so φ is not evaluated on
-        // the start enclosure separately.)
-        let nonneg_domain =
-            matches!(phi, Unary::Sqrt) || matches!(phi, Unary::Pow(p) if p > T::ZERO);
-        if nonneg_domain && self.start.hi() < T::ZERO {
+        if self.start.hi() < T::ZERO {
             return Self::INVALID;
         }
         let (fl, fu) = (self.lower_side(), self.upper_side());
-        let mode = self.mode.get();
-        let mut h = self.h;
-        let all = (T::NEG_INFINITY, T::INFINITY);
-        let nonneg = (T::ZERO, T::INFINITY);
-        let pos = self.start.lo() > T::ZERO;
-        let neg = self.start.hi() < T::ZERO;
-        match phi {
-            Unary::Exp => {
-                // Stop where the upper argument has grown by EXP_GROWTH: the
-                // chord stays finite (no overflow) and meaningful.
-                let cap = add_lo(fu.s, T::from_f64(EXP_GROWTH));
-                if cap > fu.s && fu.range_hi(h) > cap {
-                    let room = Side::new(sub_lo(cap, fu.s), -fu.a, -fu.b);
-                    if let Some(r) = poly::safe_root_pos(room, h) {
-                        h = r;
-                    }
-                }
-                let lower = compose::tangent(phi, fl, false);
-                let (upper, h2) = compose::chord(phi, fu, h, true, mode, all);
-                Self::from_sides(lower, upper, h2, mode)
-            }
-            Unary::Recip | Unary::Ln => {
-                if pos {
-                    let (hh, floor) = Self::half_way(fl, h);
-                    h = hh;
-                    let known = (floor, T::INFINITY);
-                    if phi == Unary::Recip {
-                        // convex decreasing
-                        let lower = compose::tangent(phi, fu, false);
-                        let (upper, h2) = compose::chord(phi, fl, h, true, mode, known);
-                        Self::from_sides(lower, upper, h2, mode)
-                    } else {
-                        // concave increasing
-                        let upper = compose::tangent(phi, fu, true);
-                        let (lower, h2) = compose::chord(phi, fl, h, false, mode, known);
-                        Self::from_sides(lower, upper, h2, mode)
-                    }
-                } else if neg && phi == Unary::Recip {
-                    // concave decreasing on x < 0
-                    let (hh, floor) = Self::half_way(fu.neg(), h);
-                    h = hh;
-                    let upper = compose::tangent(phi, fl, true);
-                    let known = (T::NEG_INFINITY, -floor);
-                    let (lower, h2) = compose::chord(phi, fu, h, false, mode, known);
-                    Self::from_sides(lower, upper, h2, mode)
-                } else {
-                    Self::INVALID
+        let (h, mode) = (self.h, self.mode.get());
+        let (lower, h2) = if self.start.lo() > T::ZERO {
+            compose::chord(phi, fl, h, false, mode, (T::ZERO, T::INFINITY))
+        } else {
+            (Side::constant(T::ZERO), h)
+        };
+        let upper = Self::concave_power_upper(phi, fu, h2);
+        Self::from_sides(lower, upper, h2, mode)
+    }
+
+    /// The upper side of a concave power (`√x`, `max(x, 0)^p` for
+    /// `0 < p < 1`) of the input's upper side `fu` on `[0, h]`: the tangent
+    /// at a positive start, kept `≥ 0` down to the input's lowest value
+    /// (the function is 0 there); the constant `φ(max I₁, 0)` otherwise
+    /// (no finite slope is exact at a start of 0).
+    fn concave_power_upper<P: Unary<T>>(phi: P, fu: Side<T>, h: T) -> Side<T> {
+        let x0 = fu.s;
+        if x0 > T::ZERO {
+            let v = phi.eval(Interval::point(x0));
+            let d = phi.deriv_from(x0, v);
+            let i0 = fu.range_lo(h);
+            let mut dl = d.lo();
+            if i0 < T::ZERO {
+                // Stay ≥ 0 down to I₀ (the function is 0 there).
+                let cap = div_lo(v.hi(), sub_hi(x0, i0));
+                if cap < dl {
+                    dl = cap;
                 }
             }
-            Unary::Pow(p) if p < T::ZERO => {
-                if !pos {
-                    return Self::INVALID;
-                }
-                let (hh, floor) = Self::half_way(fl, h);
-                h = hh;
-                let lower = compose::tangent(phi, fu, false);
-                let (upper, h2) = compose::chord(phi, fl, h, true, mode, (floor, T::INFINITY));
-                Self::from_sides(lower, upper, h2, mode)
-            }
-            Unary::Pow(p) if p > T::ONE => {
-                // max(x, 0)^p is convex increasing on all of ℝ.
-                let lower = if pos {
-                    compose::tangent(phi, fl, false)
-                } else {
-                    Side::constant(T::ZERO)
-                };
-                let (upper, h2) = compose::chord(phi, fu, h, true, mode, nonneg);
-                Self::from_sides(lower, upper, h2, mode)
-            }
-            _ => {
-                // Sqrt and 0 < p < 1: concave increasing on x ≥ 0, φ(0) = 0,
-                // bounded as φ(max(x, 0)).
-                let (lower, h2) = if pos {
-                    compose::chord(phi, fl, h, false, mode, nonneg)
-                } else {
-                    (Side::constant(T::ZERO), h)
-                };
-                let x0 = fu.s;
-                let upper = if x0 > T::ZERO {
-                    let v = phi.eval(Interval::point(x0));
-                    let d = match phi {
-                        Unary::Pow(p) => Interval::point(x0).pow(p - T::ONE) * p,
-                        _ => (Interval::point(x0).sqrt() * T::TWO).recip(),
-                    };
-                    let i0 = fu.range_lo(h2);
-                    let mut dl = d.lo();
-                    if i0 < T::ZERO {
-                        // Stay ≥ 0 down to I₀ (the function is 0 there).
-                        let cap = div_lo(v.hi(), sub_hi(x0, i0));
-                        if cap < dl {
-                            dl = cap;
-                        }
-                    }
-                    compose::compose_line(
-                        Line {
-                            l0: v.hi(),
-                            dl,
-                            dr: d.hi(),
-                        },
-                        fu,
-                        true,
-                    )
-                } else {
-                    let i1 = fu.range_hi(h2);
-                    let top = phi.eval(Interval::point(if i1 > T::ZERO { i1 } else { T::ZERO }));
-                    if top.is_empty() {
-                        compose::unbounded(T::INFINITY, true)
-                    } else {
-                        Side::constant(top.hi())
-                    }
-                };
-                Self::from_sides(lower, upper, h2, mode)
+            compose::compose_line(
+                Line {
+                    l0: v.hi(),
+                    dl,
+                    dr: d.hi(),
+                },
+                fu,
+                true,
+            )
+        } else {
+            let i1 = fu.range_hi(h);
+            let top = phi.eval(Interval::point(if i1 > T::ZERO { i1 } else { T::ZERO }));
+            if top.is_empty() {
+                compose::unbounded(T::INFINITY, true)
+            } else {
+                Side::constant(top.hi())
             }
         }
     }
@@ -875,15 +891,27 @@ impl<T: Real> Mul for ForwardQuadratic<T> {
         let mode = self.mode.join(rhs.mode);
         let (f0, f1) = (self.lower_side(), self.upper_side());
         let (g0, g1) = (rhs.lower_side(), rhs.upper_side());
-        // The four corners by name, no index loop: a dynamic index is a
-        // panic path, which rust-gpu 0.11 handles by inlining every caller
-        // up to the entry point (BENCHMARKS.md "GPU").
-        let (l00, u00) = corner_product(f0, g0, h);
-        let (l01, u01) = corner_product(f0, g1, h);
-        let (l10, u10) = corner_product(f1, g0, h);
-        let (l11, u11) = corner_product(f1, g1, h);
-        let lower = min_sides(min_sides(min_sides(l00, l01), l10), l11);
-        let upper = max_sides(max_sides(max_sides(u00, u01), u10), u11);
+        // The four corners (f0 g0, f0 g1, f1 g0, f1 g1, combined in that
+        // order) in a loop with one call of `corner_product`: a GPU driver
+        // inlines every call site, and four of them made a product 1.3
+        // million SPIR-V instructions (BENCHMARKS.md "GPU"). The operands
+        // are chosen by branches, not by index: a dynamic index is a panic
+        // path, which rust-gpu 0.11 handles by inlining every caller up to
+        // the entry point.
+        let (mut lower, mut upper) = (Side::constant(T::ZERO), Side::constant(T::ZERO));
+        let mut k = 0u32;
+        while k < 4 {
+            let f = if k < 2 { f0 } else { f1 };
+            let g = if k % 2 == 0 { g0 } else { g1 };
+            let (l, u) = corner_product(f, g, h);
+            if k == 0 {
+                (lower, upper) = (l, u);
+            } else {
+                lower = min_sides(lower, l);
+                upper = max_sides(upper, u);
+            }
+            k += 1;
+        }
         Self::from_sides(lower, upper, h, mode)
     }
 }
@@ -901,19 +929,32 @@ fn corner_product<T: Real>(f: Side<T>, g: Side<T>, h: T) -> (Side<T>, Side<T>) {
     let cubic = c[3] != (T::ZERO, T::ZERO) || c[4] != (T::ZERO, T::ZERO);
     if cubic && h.is_finite() {
         let m = h * T::HALF;
-        let promising = |est: Option<(T, T)>, ex: Side<T>| {
-            est.is_some_and(|(em, eh)| em > ex.at_lo(m) && eh > ex.at_lo(h))
-        };
-        if promising(poly::fig8_lo_estimate(c, h), l) {
-            if let Some(l8) = poly::reduce_lo_fig8(c, h) {
-                l = fig8_if_tighter(l, l8, h);
+        // The lower side (of `c`), then the upper one (the negated lower
+        // side of `−c`), with one call of the Fig. 8 rule (GPU size, as in
+        // `mul`).
+        let mut upper = false;
+        loop {
+            let (q, ex) = if upper {
+                (poly::neg_quartic(c), u.neg())
+            } else {
+                (c, l)
+            };
+            let promising = poly::fig8_lo_estimate(q, h)
+                .is_some_and(|(em, eh)| em > ex.at_lo(m) && eh > ex.at_lo(h));
+            if promising {
+                if let Some(r8) = poly::reduce_lo_fig8(q, h) {
+                    let t = fig8_if_tighter(ex, r8, h);
+                    if upper {
+                        u = t.neg();
+                    } else {
+                        l = t;
+                    }
+                }
             }
-        }
-        let neg = poly::neg_quartic(c);
-        if promising(poly::fig8_lo_estimate(neg, h), u.neg()) {
-            if let Some(u8) = poly::reduce_lo_fig8(neg, h) {
-                u = fig8_if_tighter(u.neg(), u8, h).neg();
+            if upper {
+                break;
             }
+            upper = true;
         }
     }
     (l, u)
