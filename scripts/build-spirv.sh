@@ -13,6 +13,7 @@
 #     …-linear-taylor-blobs.spv, …-linear-taylor-groups.spv,
 #     …-quadratic-taylor-blobs.spv, …-quadratic-taylor-groups.spv (forward Taylor methods)
 #     …-sphere-blobtree.spv                                                      (sphere tracing, `Blobtree` scenes)
+#     …-linear-bottom-up-blobs.spv                          (forward linear bottom-up bounds, `Blobs` scenes)
 #
 # (boundtrace-gpu also honours BOUNDTRACE_GPU_SPV=/path/to/module.spv, and
 # looks for the other modules beside it). With BOUNDTRACE_SHADER_FEATURES
@@ -64,4 +65,8 @@ if [ -z "${BOUNDTRACE_SHADER_FEATURES:-}" ]; then
             module sphere-blobtree "${out%.spv}-sphere-blobtree.spv"
         fi
     done
+    # The first bottom-up module (BENCHMARKS.md "GPU", session 27); the
+    # other kinds and the quadratic bound are not built yet.
+    echo "==> compiling the linear-bottom-up module for blobs"
+    module linear-bottom-up-blobs "${out%.spv}-linear-bottom-up-blobs.spv"
 fi

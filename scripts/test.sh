@@ -133,6 +133,7 @@ gpu_tests segment_matches_the_cpu_in_both_modes
 gpu_tests sphere_matches_the_cpu_on_blobtrees_whole_and_tiled
 gpu_tests linear_taylor_matches_the_cpu_in_both_modes
 gpu_tests quadratic_taylor_matches_the_cpu_in_both_modes
+gpu_tests linear_bottom_up_matches_the_cpu_on_summed_blobs
 
 step "cargo test -p boundtrace-gpu: every other test (unit tests, probes, the rest of the difftests)"
 skips=()

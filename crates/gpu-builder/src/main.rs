@@ -47,6 +47,12 @@ fn main() -> ExitCode {
             .shader_crate_default_features(false)
             .shader_crate_features(list);
     }
+    // `BOUNDTRACE_NO_SPIRV_OPT=1`: rust-gpu's module as it links, without
+    // spirv-opt (to measure a module that spirv-opt cannot handle; a driver
+    // must then inline every call itself).
+    if std::env::var_os("BOUNDTRACE_NO_SPIRV_OPT").is_some_and(|v| v == "1") {
+        builder = builder.extra_arg("--no-spirv-opt");
+    }
     if let Some(dir) = target_dir {
         builder = builder.target_dir_path(PathBuf::from(dir));
     }

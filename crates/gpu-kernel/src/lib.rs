@@ -59,7 +59,8 @@ use boundtrace_tracer::march::{MarchState, StepGuard};
 use boundtrace_tracer::pixel::{PixelSetup, PixelTrace, trace_pixel_in, trace_pixel_with};
 use boundtrace_tracer::{
     Leg, Method, Mode, Params, RayStats, Root, Status, Trace, normal,
-    trace_linear_taylor_resume_in, trace_quadratic_taylor_resume_in, trace_segment_resume_in,
+    trace_linear_bottom_up_resume_in, trace_linear_taylor_resume_in,
+    trace_quadratic_bottom_up_resume_in, trace_quadratic_taylor_resume_in, trace_segment_resume_in,
     trace_sphere_in, trace_sphere_resume_in,
 };
 
@@ -1014,6 +1015,27 @@ leg_method!(
     QuadraticTaylorTrace,
     Method::QuadraticTaylor,
     trace_quadratic_taylor_resume_in
+);
+
+leg_method!(
+    /// [`render_linear_taylor_leg_in`] for [`Method::LinearBottomUp`]
+    /// (forward linear bottom-up bounds: [`trace_linear_bottom_up_resume_in`];
+    /// the shader's `trace_linear_bottom_up_blobs` and
+    /// `trace_linear_bottom_up_groups`).
+    render_linear_bottom_up_leg_in,
+    LinearBottomUpTrace,
+    Method::LinearBottomUp,
+    trace_linear_bottom_up_resume_in
+);
+
+leg_method!(
+    /// [`render_linear_taylor_leg_in`] for [`Method::QuadraticBottomUp`]
+    /// ([`trace_quadratic_bottom_up_resume_in`]; the shader's
+    /// `trace_quadratic_bottom_up_blobs` and `trace_quadratic_bottom_up_groups`).
+    render_quadratic_bottom_up_leg_in,
+    QuadraticBottomUpTrace,
+    Method::QuadraticBottomUp,
+    trace_quadratic_bottom_up_resume_in
 );
 
 /// The leg kernels with `M`'s tracer.

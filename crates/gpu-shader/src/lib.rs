@@ -302,6 +302,42 @@ leg_entry_point!(
 );
 
 leg_entry_point!(
+    /// Forward linear bottom-up bounds (`linear-bottom-up`) on
+    /// `SceneKind::Blobs` scenes
+    /// (`render_linear_bottom_up_leg_in::<BlobsOnly>`), feature
+    /// `linear-bottom-up-blobs`.
+    "linear-bottom-up-blobs",
+    trace_linear_bottom_up_blobs,
+    kernel::render_linear_bottom_up_leg_in::<kernel::BlobsOnly>
+);
+
+leg_entry_point!(
+    /// `linear-bottom-up` on `SceneKind::BlobGroups` scenes, feature
+    /// `linear-bottom-up-groups`.
+    "linear-bottom-up-groups",
+    trace_linear_bottom_up_groups,
+    kernel::render_linear_bottom_up_leg_in::<kernel::GroupsOnly>
+);
+
+leg_entry_point!(
+    /// Forward quadratic bottom-up bounds (`quadratic-bottom-up`) on
+    /// `SceneKind::Blobs` scenes
+    /// (`render_quadratic_bottom_up_leg_in::<BlobsOnly>`), feature
+    /// `quadratic-bottom-up-blobs`.
+    "quadratic-bottom-up-blobs",
+    trace_quadratic_bottom_up_blobs,
+    kernel::render_quadratic_bottom_up_leg_in::<kernel::BlobsOnly>
+);
+
+leg_entry_point!(
+    /// `quadratic-bottom-up` on `SceneKind::BlobGroups` scenes, feature
+    /// `quadratic-bottom-up-groups`.
+    "quadratic-bottom-up-groups",
+    trace_quadratic_bottom_up_groups,
+    kernel::render_quadratic_bottom_up_leg_in::<kernel::GroupsOnly>
+);
+
+leg_entry_point!(
     /// [`trace_sphere`] for `SceneKind::Blobtree` scenes (the flat
     /// blobtrees of the `aggregate-*` scenes,
     /// `render_sphere_leg_in::<BlobtreeOnly>`), feature `sphere-blobtree`:
@@ -323,7 +359,11 @@ leg_entry_point!(
     feature = "linear-taylor-blobs",
     feature = "linear-taylor-groups",
     feature = "quadratic-taylor-blobs",
-    feature = "quadratic-taylor-groups"
+    feature = "quadratic-taylor-groups",
+    feature = "linear-bottom-up-blobs",
+    feature = "linear-bottom-up-groups",
+    feature = "quadratic-bottom-up-blobs",
+    feature = "quadratic-bottom-up-groups"
 ))]
 #[allow(clippy::too_many_arguments)]
 fn leg_entry<R>(

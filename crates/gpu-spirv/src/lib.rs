@@ -37,8 +37,9 @@
 //! (`linear-taylor`, `quadratic-taylor`) run on the GPU and give the CPU's
 //! frame: the main module's `trace_sphere` and the leg modules'
 //! `trace_segment_*`, `trace_linear_taylor_*`,
-//! `trace_quadratic_taylor_*` and `trace_sphere_blobtree` (sphere tracing
-//! of the `aggregate-*` blobtrees) entry points ([`leg_spirv_path`]) trace
+//! `trace_quadratic_taylor_*`, `trace_sphere_blobtree` (sphere tracing
+//! of the `aggregate-*` blobtrees) and `trace_linear_bottom_up_blobs`
+//! (`linear-bottom-up` on summed-blob scenes) entry points ([`leg_spirv_path`]) trace
 //! each pixel in resumable legs
 //! ([`boundtrace_gpu_kernel::render_sphere_leg_in`],
 //! [`boundtrace_gpu_kernel::render_segment_leg_in`], …), and
@@ -155,7 +156,7 @@ const SPHERE_ENTRY: &str = "trace_sphere";
 /// file name and its entry point (`segment-blobs`: feature
 /// `segment-blobs`, `…-segment-blobs.spv`, `trace_segment_blobs`); see
 /// [`leg_spirv_path`].
-const LEG_MODULE_LIST: [(Method, SceneKind, &str); 7] = [
+const LEG_MODULE_LIST: [(Method, SceneKind, &str); 8] = [
     (Method::Segment, SceneKind::Blobs, "segment-blobs"),
     (Method::Segment, SceneKind::BlobGroups, "segment-groups"),
     (
@@ -179,6 +180,11 @@ const LEG_MODULE_LIST: [(Method, SceneKind, &str); 7] = [
         "quadratic-taylor-groups",
     ),
     (Method::Sphere, SceneKind::Blobtree, "sphere-blobtree"),
+    (
+        Method::LinearBottomUp,
+        SceneKind::Blobs,
+        "linear-bottom-up-blobs",
+    ),
 ];
 
 /// How many leg modules there are.
@@ -789,12 +795,16 @@ impl GpuTracer {
             }
         }
         if general {
-            methods.extend([
+            for method in [
                 Method::LinearBottomUp,
                 Method::LinearMixed,
                 Method::QuadraticBottomUp,
                 Method::QuadraticMixed,
-            ]);
+            ] {
+                if !methods.contains(&method) {
+                    methods.push(method);
+                }
+            }
         }
         methods
     }
@@ -2075,6 +2085,11 @@ mod tests {
         assert!(script.contains("for method in segment linear-taylor quadratic-taylor; do"));
         assert!(script.contains("for kind in blobs groups; do"));
         assert!(script.contains("module sphere-blobtree \"${out%.spv}-sphere-blobtree.spv\""));
+        assert!(
+            script.contains(
+                "module linear-bottom-up-blobs \"${out%.spv}-linear-bottom-up-blobs.spv\""
+            )
+        );
         let shader = include_str!("../../gpu-shader/src/lib.rs");
         let features = include_str!("../../gpu-shader/Cargo.toml");
         for slot in 0..LEG_MODULES {

@@ -17,9 +17,11 @@
 //!
 //! Sphere tracing, segment tracing and the forward Taylor methods (the
 //! module's `trace_sphere` and the leg modules' `trace_segment_*`,
-//! `trace_linear_taylor_*` and `trace_quadratic_taylor_*` entry points)
-//! run in CI on lavapipe, every pixel compared. The other methods (bottom-up
-//! and mixed forward bounds) need the `trace_pixels` entry point (the
+//! `trace_linear_taylor_*` and `trace_quadratic_taylor_*` entry points),
+//! and forward linear bottom-up bounds on the summed-blob scenes
+//! (`trace_linear_bottom_up_blobs`) run in CI on lavapipe, every pixel
+//! compared. The other methods (the other bottom-up modules, mixed forward
+//! bounds) need the `trace_pixels` entry point (the
 //! shader's `trace` feature: `BOUNDTRACE_SHADER_FEATURES=trace
 //! scripts/build-spirv.sh`), which links but is too large for a driver
 //! that inlines every call (lavapipe: BENCHMARKS.md "GPU"); their tests are
@@ -482,6 +484,17 @@ fn quadratic_taylor_matches_the_cpu_in_both_modes() {
     run(&[Method::QuadraticTaylor], true);
 }
 
+/// Forward linear bottom-up bounds (the field evaluated in
+/// `ForwardLinear` arithmetic; the `trace_linear_bottom_up_blobs` entry
+/// point, the one bottom-up module so far) against the CPU on every pixel of
+/// the summed-blob scenes ([`SCENES`]`[1]`), opaque and transparent, with the
+/// issue's thresholds.
+#[test]
+fn linear_bottom_up_matches_the_cpu_on_summed_blobs() {
+    let Some(gpu) = gpu() else { return };
+    assert_none_failed(&run_with(&gpu, &[Method::LinearBottomUp], SCENES[1], true));
+}
+
 #[test]
 fn methods_without_an_entry_point_are_refused_clearly() {
     let Some(gpu) = gpu() else { return };
@@ -503,7 +516,8 @@ fn methods_without_an_entry_point_are_refused_clearly() {
                 Method::Sphere,
                 Method::Segment,
                 Method::LinearTaylor,
-                Method::QuadraticTaylor
+                Method::QuadraticTaylor,
+                Method::LinearBottomUp
             ]
         );
     }

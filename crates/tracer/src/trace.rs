@@ -478,10 +478,10 @@ single_method_resume!(
     /// [`trace_resume_in`] with [`Method::LinearBottomUp`], reached without
     /// the method dispatch, so that a caller links the bottom-up linear
     /// bound alone (see [`trace_segment_resume_in`]). Equal to
-    /// [`trace_resume_in`]'s trace bit for bit. No SPIR-V module holds it
-    /// yet: on the blob scenes alone, the module rust-gpu builds from it
-    /// exceeds SPIR-V's id bound once inlined (BENCHMARKS.md "GPU",
-    /// session 25).
+    /// [`trace_resume_in`]'s trace bit for bit. The GPU shader's
+    /// `trace_linear_bottom_up_blobs` entry point (BENCHMARKS.md "GPU",
+    /// session 27: the module fits since the forward compositions
+    /// instantiate one function each).
     trace_linear_bottom_up_resume_in,
     march::BottomUpWindow<false>,
     Method::LinearBottomUp
