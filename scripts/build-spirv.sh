@@ -13,7 +13,17 @@
 #     …-linear-taylor-blobs.spv, …-linear-taylor-groups.spv,
 #     …-quadratic-taylor-blobs.spv, …-quadratic-taylor-groups.spv (forward Taylor methods)
 #     …-sphere-blobtree.spv                                                      (sphere tracing, `Blobtree` scenes)
-#     …-linear-bottom-up-blobs.spv                          (forward linear bottom-up bounds, `Blobs` scenes)
+#     …-linear-bottom-up-blobs.spv, …-linear-bottom-up-groups.spv,
+#     …-quadratic-bottom-up-blobs.spv, …-quadratic-bottom-up-groups.spv (forward bottom-up bounds)
+#     …-linear-mixed-blobs.spv, …-linear-mixed-groups.spv,
+#     …-quadratic-mixed-blobs.spv, …-quadratic-mixed-groups.spv (forward mixed bounds;
+#                                         only with BOUNDTRACE_MIXED_MODULES=1)
+#
+# The bottom-up and mixed modules are written as rust-gpu links them,
+# without spirv-opt (seconds instead of minutes, and a few GB instead of
+# ~19 GB or more than this machine's 24 GB): the driver inlines and
+# optimises them (lavapipe does, in about the time it takes with an
+# optimised module: BENCHMARKS.md "GPU", session 28).
 #
 # (boundtrace-gpu also honours BOUNDTRACE_GPU_SPV=/path/to/module.spv, and
 # looks for the other modules beside it). With BOUNDTRACE_SHADER_FEATURES
@@ -29,16 +39,23 @@ target=${CARGO_TARGET_DIR:-$root/target}
 case "$target" in /*) ;; *) target="$root/$target" ;; esac
 out="$target/spirv/boundtrace-gpu-shader.spv"
 
-# Builds one module: `module FEATURES PATH` (FEATURES empty: the shader
+# Builds one module: `module FEATURES PATH [no-opt]` (FEATURES empty: the shader
 # crate's default features). `cargo run` puts the codegen backend
 # (librustc_codegen_spirv.so) and the nightly's rustc libraries on the
 # library path; the nested shader build gets its own target dir.
 module() {
-    local features=$1 path=$2
+    local features=$1 path=$2 opt=${3:-opt}
     (cd crates/gpu-builder &&
         if [ -n "$features" ]; then export BOUNDTRACE_SHADER_FEATURES=$features; fi &&
+        shader_target="$target/spirv-shader" &&
+        # Their own shader target dir: the flag changes rust-gpu's codegen
+        # arguments, which would rebuild the shared one's dependencies.
+        if [ "$opt" = no-opt ]; then
+            export BOUNDTRACE_NO_SPIRV_OPT=1
+            shader_target="$target/spirv-shader-no-opt"
+        fi &&
         CARGO_TARGET_DIR="$target/spirv-builder" cargo +"$toolchain" run --release --locked -q -- \
-            "$path" "$target/spirv-shader")
+            "$path" "$shader_target")
 }
 
 echo "==> building the SPIR-V builder (cached in $target/spirv-builder) and compiling crates/gpu-shader"
@@ -65,8 +82,18 @@ if [ -z "${BOUNDTRACE_SHADER_FEATURES:-}" ]; then
             module sphere-blobtree "${out%.spv}-sphere-blobtree.spv"
         fi
     done
-    # The first bottom-up module (BENCHMARKS.md "GPU", session 27); the
-    # other kinds and the quadratic bound are not built yet.
-    echo "==> compiling the linear-bottom-up module for blobs"
-    module linear-bottom-up-blobs "${out%.spv}-linear-bottom-up-blobs.spv"
+    # The bottom-up modules, without spirv-opt (see above); the mixed ones
+    # only with BOUNDTRACE_MIXED_MODULES=1: lavapipe takes 8-9 min and
+    # ≈ 20 GB to compile each of their pipelines, more than CI's budget
+    # (BENCHMARKS.md "GPU", session 28).
+    methods="linear-bottom-up quadratic-bottom-up"
+    if [ "${BOUNDTRACE_MIXED_MODULES:-}" = 1 ]; then
+        methods="$methods linear-mixed quadratic-mixed"
+    fi
+    for method in $methods; do
+        for kind in blobs groups; do
+            echo "==> compiling the $method module for $kind (no spirv-opt)"
+            module "$method-$kind" "${out%.spv}-$method-$kind.spv" no-opt
+        done
+    done
 fi

@@ -17,9 +17,9 @@ rustup target add thumbv7em-none-eabihf >/dev/null
 step "pinned nightly for rust-gpu and cargo-fuzz (installed when missing)"
 scripts/nightly.sh >/dev/null
 
-# The GPU preparation (lavapipe when no Vulkan driver, and the eight
-# SPIR-V modules: ~40 min cold on 2 cores, one core at a time, with peaks
-# of 14-18 GB) runs in the background from here, while the CPU-only steps
+# The GPU preparation (lavapipe when no Vulkan driver, and the SPIR-V
+# modules: nine with spirv-opt, ~40 min cold on 2 cores, one core at a time, with peaks
+# of 14-18 GB, and four in seconds without it) runs in the background from here, while the CPU-only steps
 # below run beside it on one cargo job (so that the two fit in memory).
 # The GPU tests wait until the last module is built: beside a module build
 # even the sphere difftest left too little of this machine's 24 GB (a
@@ -133,7 +133,32 @@ gpu_tests segment_matches_the_cpu_in_both_modes
 gpu_tests sphere_matches_the_cpu_on_blobtrees_whole_and_tiled
 gpu_tests linear_taylor_matches_the_cpu_in_both_modes
 gpu_tests quadratic_taylor_matches_the_cpu_in_both_modes
-gpu_tests linear_bottom_up_matches_the_cpu_on_summed_blobs
+# `gpu_tests_beside A B`: difftests A and B in two processes at once. The
+# bottom-up modules come without spirv-opt, so lavapipe spends
+# minutes inlining and compiling each pipeline, on one core (its memory:
+# BENCHMARKS.md "GPU", session 28); two processes use both cores.
+gpu_tests_beside() {
+    step "GPU difftests $1 and $2, side by side"
+    local out1 out2 pid1 pid2
+    out1=$(mktemp "${TMPDIR:-/tmp}/boundtrace-gpu-tests.XXXXXX")
+    out2=$(mktemp "${TMPDIR:-/tmp}/boundtrace-gpu-tests.XXXXXX")
+    cargo test -p boundtrace-gpu --test difftest -- --exact "$1" >"$out1" 2>&1 &
+    pid1=$!
+    cargo test -p boundtrace-gpu --test difftest -- --exact "$2" >"$out2" 2>&1 &
+    pid2=$!
+    wait "$pid1" || true
+    wait "$pid2" || true
+    cat "$out1" "$out2"
+    # Each must report its one test passed (a name that matches no test
+    # would pass silently).
+    if ! grep -q "test result: ok. 1 passed" "$out1" || ! grep -q "test result: ok. 1 passed" "$out2"; then
+        echo "expected difftests $1 and $2 to pass" >&2
+        exit 1
+    fi
+    rm -f "$out1" "$out2"
+    done_tests+=("$1" "$2")
+}
+gpu_tests_beside linear_bottom_up_matches_the_cpu_in_both_modes quadratic_bottom_up_matches_the_cpu_in_both_modes
 
 step "cargo test -p boundtrace-gpu: every other test (unit tests, probes, the rest of the difftests)"
 skips=()

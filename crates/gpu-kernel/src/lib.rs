@@ -59,9 +59,10 @@ use boundtrace_tracer::march::{MarchState, StepGuard};
 use boundtrace_tracer::pixel::{PixelSetup, PixelTrace, trace_pixel_in, trace_pixel_with};
 use boundtrace_tracer::{
     Leg, Method, Mode, Params, RayStats, Root, Status, Trace, normal,
-    trace_linear_bottom_up_resume_in, trace_linear_taylor_resume_in,
-    trace_quadratic_bottom_up_resume_in, trace_quadratic_taylor_resume_in, trace_segment_resume_in,
-    trace_sphere_in, trace_sphere_resume_in,
+    trace_linear_bottom_up_resume_in, trace_linear_mixed_resume_in, trace_linear_taylor_resume_in,
+    trace_quadratic_bottom_up_resume_in, trace_quadratic_mixed_resume_in,
+    trace_quadratic_taylor_resume_in, trace_segment_resume_in, trace_sphere_in,
+    trace_sphere_resume_in,
 };
 
 /// The largest per-pixel root buffer of the GPU (transparent mode): a
@@ -1036,6 +1037,27 @@ leg_method!(
     QuadraticBottomUpTrace,
     Method::QuadraticBottomUp,
     trace_quadratic_bottom_up_resume_in
+);
+
+leg_method!(
+    /// [`render_linear_taylor_leg_in`] for [`Method::LinearMixed`] (the
+    /// bottom-up and Taylor linear bounds, the tighter side of each:
+    /// [`trace_linear_mixed_resume_in`]; the shader's `trace_linear_mixed_blobs`
+    /// and `trace_linear_mixed_groups`).
+    render_linear_mixed_leg_in,
+    LinearMixedTrace,
+    Method::LinearMixed,
+    trace_linear_mixed_resume_in
+);
+
+leg_method!(
+    /// [`render_linear_taylor_leg_in`] for [`Method::QuadraticMixed`]
+    /// ([`trace_quadratic_mixed_resume_in`]; the shader's
+    /// `trace_quadratic_mixed_blobs` and `trace_quadratic_mixed_groups`).
+    render_quadratic_mixed_leg_in,
+    QuadraticMixedTrace,
+    Method::QuadraticMixed,
+    trace_quadratic_mixed_resume_in
 );
 
 /// The leg kernels with `M`'s tracer.

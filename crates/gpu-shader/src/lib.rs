@@ -338,6 +338,40 @@ leg_entry_point!(
 );
 
 leg_entry_point!(
+    /// Forward linear mixed bounds (the tighter side of the bottom-up and Taylor bounds,
+    /// `linear-mixed`) on `SceneKind::Blobs` scenes
+    /// (`render_linear_mixed_leg_in::<BlobsOnly>`), feature `linear-mixed-blobs`.
+    "linear-mixed-blobs",
+    trace_linear_mixed_blobs,
+    kernel::render_linear_mixed_leg_in::<kernel::BlobsOnly>
+);
+
+leg_entry_point!(
+    /// `linear-mixed` on `SceneKind::BlobGroups` scenes, feature
+    /// `linear-mixed-groups`.
+    "linear-mixed-groups",
+    trace_linear_mixed_groups,
+    kernel::render_linear_mixed_leg_in::<kernel::GroupsOnly>
+);
+
+leg_entry_point!(
+    /// Forward quadratic mixed bounds (the tighter side of the bottom-up and Taylor bounds,
+    /// `quadratic-mixed`) on `SceneKind::Blobs` scenes
+    /// (`render_quadratic_mixed_leg_in::<BlobsOnly>`), feature `quadratic-mixed-blobs`.
+    "quadratic-mixed-blobs",
+    trace_quadratic_mixed_blobs,
+    kernel::render_quadratic_mixed_leg_in::<kernel::BlobsOnly>
+);
+
+leg_entry_point!(
+    /// `quadratic-mixed` on `SceneKind::BlobGroups` scenes, feature
+    /// `quadratic-mixed-groups`.
+    "quadratic-mixed-groups",
+    trace_quadratic_mixed_groups,
+    kernel::render_quadratic_mixed_leg_in::<kernel::GroupsOnly>
+);
+
+leg_entry_point!(
     /// [`trace_sphere`] for `SceneKind::Blobtree` scenes (the flat
     /// blobtrees of the `aggregate-*` scenes,
     /// `render_sphere_leg_in::<BlobtreeOnly>`), feature `sphere-blobtree`:
@@ -363,7 +397,11 @@ leg_entry_point!(
     feature = "linear-bottom-up-blobs",
     feature = "linear-bottom-up-groups",
     feature = "quadratic-bottom-up-blobs",
-    feature = "quadratic-bottom-up-groups"
+    feature = "quadratic-bottom-up-groups",
+    feature = "linear-mixed-blobs",
+    feature = "linear-mixed-groups",
+    feature = "quadratic-mixed-blobs",
+    feature = "quadratic-mixed-groups"
 ))]
 #[allow(clippy::too_many_arguments)]
 fn leg_entry<R>(

@@ -32,14 +32,15 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
-//! **Status** (issue 9, open): sphere tracing, segment tracing and the
-//! forward linear and quadratic methods from Taylor bounds
-//! (`linear-taylor`, `quadratic-taylor`) run on the GPU and give the CPU's
-//! frame: the main module's `trace_sphere` and the leg modules'
-//! `trace_segment_*`, `trace_linear_taylor_*`,
-//! `trace_quadratic_taylor_*`, `trace_sphere_blobtree` (sphere tracing
-//! of the `aggregate-*` blobtrees) and `trace_linear_bottom_up_blobs`
-//! (`linear-bottom-up` on summed-blob scenes) entry points ([`leg_spirv_path`]) trace
+//! **Status** (issue 9, open): every marching method runs on the GPU and
+//! gives the CPU's frame: sphere tracing, segment tracing and the forward
+//! linear and quadratic methods from Taylor, bottom-up and mixed bounds
+//! (`linear-taylor`, `linear-bottom-up`, `linear-mixed`, and the same
+//! three quadratic ones). The main module's `trace_sphere` and the leg
+//! modules' `trace_segment_*`, `trace_linear_taylor_*`,
+//! `trace_quadratic_taylor_*`, `trace_{linear,quadratic}_{bottom_up,mixed}_*`
+//! and `trace_sphere_blobtree` (sphere tracing of the `aggregate-*`
+//! blobtrees) entry points ([`leg_spirv_path`]) trace
 //! each pixel in resumable legs
 //! ([`boundtrace_gpu_kernel::render_sphere_leg_in`],
 //! [`boundtrace_gpu_kernel::render_segment_leg_in`], …), and
@@ -63,8 +64,12 @@
 //! renders blobtrees tiled). The tiles' programs are whole along each ray,
 //! not the paper's per-depth ranges.
 //! [`interval_probe`] and [`arith_probe`] check the driver's arithmetic
-//! against the CPU's. The other methods (bottom-up and mixed forward
-//! bounds, interval, affine, `scalis-quadratic`) live in the
+//! against the CPU's. The bottom-up and mixed modules are built without
+//! spirv-opt (the driver inlines and optimises them; lavapipe does,
+//! BENCHMARKS.md "GPU", session 28); `scripts/build-spirv.sh` builds the
+//! mixed ones only with `BOUNDTRACE_MIXED_MODULES=1` (lavapipe needs
+//! 8-9 min and ≈ 20 GB per mixed pipeline). The other methods (interval, affine,
+//! `scalis-quadratic`) live in the
 //! `trace_pixels` entry point
 //! ([`render_pixel`](boundtrace_gpu_kernel::render_pixel), shader feature
 //! `trace`), which rust-gpu links but which is still far too large for a
@@ -156,7 +161,7 @@ const SPHERE_ENTRY: &str = "trace_sphere";
 /// file name and its entry point (`segment-blobs`: feature
 /// `segment-blobs`, `…-segment-blobs.spv`, `trace_segment_blobs`); see
 /// [`leg_spirv_path`].
-const LEG_MODULE_LIST: [(Method, SceneKind, &str); 8] = [
+const LEG_MODULE_LIST: [(Method, SceneKind, &str); 15] = [
     (Method::Segment, SceneKind::Blobs, "segment-blobs"),
     (Method::Segment, SceneKind::BlobGroups, "segment-groups"),
     (
@@ -184,6 +189,37 @@ const LEG_MODULE_LIST: [(Method, SceneKind, &str); 8] = [
         Method::LinearBottomUp,
         SceneKind::Blobs,
         "linear-bottom-up-blobs",
+    ),
+    (
+        Method::LinearBottomUp,
+        SceneKind::BlobGroups,
+        "linear-bottom-up-groups",
+    ),
+    (
+        Method::QuadraticBottomUp,
+        SceneKind::Blobs,
+        "quadratic-bottom-up-blobs",
+    ),
+    (
+        Method::QuadraticBottomUp,
+        SceneKind::BlobGroups,
+        "quadratic-bottom-up-groups",
+    ),
+    (Method::LinearMixed, SceneKind::Blobs, "linear-mixed-blobs"),
+    (
+        Method::LinearMixed,
+        SceneKind::BlobGroups,
+        "linear-mixed-groups",
+    ),
+    (
+        Method::QuadraticMixed,
+        SceneKind::Blobs,
+        "quadratic-mixed-blobs",
+    ),
+    (
+        Method::QuadraticMixed,
+        SceneKind::BlobGroups,
+        "quadratic-mixed-groups",
     ),
 ];
 
@@ -2072,7 +2108,8 @@ mod tests {
         );
         assert_eq!(leg_entry(slot), "trace_linear_taylor_groups");
         assert_eq!(leg_slot(Method::Segment, SceneKind::Blobtree), None);
-        assert_eq!(leg_slot(Method::LinearMixed, SceneKind::Blobs), None);
+        assert_eq!(leg_slot(Method::LinearMixed, SceneKind::Blobtree), None);
+        assert_eq!(leg_slot(Method::Affine, SceneKind::Blobs), None);
         // Every slot is one method and kind.
         for slot in 0..LEG_MODULES {
             let (m, k, _) = leg_module(slot);
@@ -2085,10 +2122,10 @@ mod tests {
         assert!(script.contains("for method in segment linear-taylor quadratic-taylor; do"));
         assert!(script.contains("for kind in blobs groups; do"));
         assert!(script.contains("module sphere-blobtree \"${out%.spv}-sphere-blobtree.spv\""));
+        assert!(script.contains("methods=\"linear-bottom-up quadratic-bottom-up\""));
+        assert!(script.contains("methods=\"$methods linear-mixed quadratic-mixed\""));
         assert!(
-            script.contains(
-                "module linear-bottom-up-blobs \"${out%.spv}-linear-bottom-up-blobs.spv\""
-            )
+            script.contains("module \"$method-$kind\" \"${out%.spv}-$method-$kind.spv\" no-opt")
         );
         let shader = include_str!("../../gpu-shader/src/lib.rs");
         let features = include_str!("../../gpu-shader/Cargo.toml");

@@ -142,22 +142,21 @@ macro_rules! impl_real {
 
             #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn next_up(self) -> Self {
-                // NaN and +∞ are fixed points.
-                if self.is_nan() || self == $t::INFINITY {
-                    return self;
-                }
-                // ±0 => the smallest positive subnormal.
-                if self == 0.0 {
-                    return $t::from_bits(1);
-                }
+                // Branch-free (a GPU driver inlines every call, and there
+                // are thousands of calls: BENCHMARKS.md "GPU", session 28).
+                // ±0 becomes +0, whose successor pattern is the least
+                // subnormal; a positive pattern steps up by one, a negative
+                // one down by one (its magnitude shrinks); NaN and +∞ are
+                // fixed points (a step of 0).
+                let sign: $bits = 1 << ($bits::BITS - 1);
                 let bits = self.to_bits();
-                // Positive: the next bit pattern is the next float up.
-                // Negative: the magnitude shrinks, the previous pattern.
-                if self > 0.0 {
-                    $t::from_bits(bits + 1)
-                } else {
-                    $t::from_bits(bits - 1)
-                }
+                let zero = <$bits>::from(bits & !sign == 0);
+                let bits = bits & !(zero * sign);
+                let negative = bits >> ($bits::BITS - 1);
+                let keep = <$bits>::from(self.is_nan() | (self == $t::INFINITY));
+                // +1, −1 (wrapping) or 0.
+                let step = (1 - keep).wrapping_mul((1 as $bits).wrapping_sub(negative << 1));
+                $t::from_bits(bits.wrapping_add(step))
             }
 
             /// Loop-free (llvmpipe caps the loop iterations of a shader
@@ -334,6 +333,73 @@ mod tests {
             let y = x as f32;
             assert_eq!(Real::next_up(y), f32::next_up(y));
             assert_eq!(Real::next_down(y), f32::next_down(y));
+        }
+    }
+
+    /// The branch-free `next_up`/`next_down` against the standard library's,
+    /// bit for bit: the special values and 200,000 pseudo-random bit
+    /// patterns of each type (every class: zeros, subnormals, normals,
+    /// infinities, NaNs).
+    #[test]
+    fn next_up_and_down_equal_std_bit_for_bit() {
+        fn check32(x: f32) {
+            for (ours, std) in [
+                (Real::next_up(x), f32::next_up(x)),
+                (Real::next_down(x), f32::next_down(x)),
+            ] {
+                if std.is_nan() {
+                    assert!(ours.is_nan(), "{x:e} ({:#x})", x.to_bits());
+                } else {
+                    assert_eq!(ours.to_bits(), std.to_bits(), "{x:e} ({:#x})", x.to_bits());
+                }
+            }
+        }
+        fn check64(x: f64) {
+            for (ours, std) in [
+                (Real::next_up(x), f64::next_up(x)),
+                (Real::next_down(x), f64::next_down(x)),
+            ] {
+                if std.is_nan() {
+                    assert!(ours.is_nan(), "{x:e} ({:#x})", x.to_bits());
+                } else {
+                    assert_eq!(ours.to_bits(), std.to_bits(), "{x:e} ({:#x})", x.to_bits());
+                }
+            }
+        }
+        for x in [
+            0.0f32,
+            -0.0,
+            f32::from_bits(1),
+            -f32::from_bits(1),
+            f32::MIN_POSITIVE,
+            -f32::MIN_POSITIVE,
+            f32::MAX,
+            f32::MIN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+            -f32::NAN,
+            1.0,
+            -1.0,
+        ] {
+            check32(x);
+            check64(f64::from(x));
+        }
+        check64(f64::from_bits(1));
+        check64(-f64::from_bits(1));
+        check64(f64::MAX);
+        check64(f64::MIN);
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        for _ in 0..200_000 {
+            // splitmix64
+            state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+            let mut z = state;
+            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+            z ^= z >> 31;
+            check64(f64::from_bits(z));
+            check32(f32::from_bits(z as u32));
+            check32(f32::from_bits((z >> 32) as u32));
         }
     }
 }

@@ -39,17 +39,17 @@ pub fn add_down<T: Real>(a: T, b: T) -> T {
         return a;
     }
     let s = a + b;
-    if !s.is_finite() {
+    // One `next_down` call site (a GPU driver inlines every call:
+    // BENCHMARKS.md "GPU").
+    let down = if !s.is_finite() {
         // Overflow of finite operands (+∞ → MAX; −∞ stays), or an exact ±∞.
-        return if a.is_finite() && b.is_finite() {
-            s.next_down()
-        } else {
-            s
-        };
-    }
-    // A NaN residual (s − a overflowed on a tie near MAX) means inexact.
-    let r = sum_residual(a, b, s);
-    if r >= T::ZERO { s } else { s.next_down() }
+        a.is_finite() && b.is_finite()
+    } else {
+        // A NaN residual (s − a overflowed on a tie near MAX) means inexact.
+        let exact = sum_residual(a, b, s) >= T::ZERO;
+        !exact
+    };
+    if down { s.next_down() } else { s }
 }
 
 /// An upper bound of `a + b` (see [`add_down`]).

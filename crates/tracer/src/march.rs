@@ -976,6 +976,46 @@ impl<const BOTTOM_UP: bool, const QUADRATIC: bool> WindowBounds for OneBound<BOT
     }
 }
 
+/// [`Method::LinearMixed`] (`QUADRATIC = false`) or
+/// [`Method::QuadraticMixed`] alone, whatever the method given: the
+/// bottom-up bound and, where the field has one, the Taylor bound, the
+/// tighter side of each kept, as [`window_bound`] builds them (`by_kind`
+/// with "mixed"), so that a caller links neither the other kind's bounds
+/// nor the single-bound methods (BENCHMARKS.md "GPU").
+pub(crate) struct MixedWindow<const QUADRATIC: bool>;
+
+impl<const QUADRATIC: bool> WindowBounds for MixedWindow<QUADRATIC> {
+    fn bound<T: Real, F: Field<T>>(
+        _method: Method,
+        field: &F,
+        ray: &Ray<T>,
+        t: T,
+        e: T,
+        stats: &mut RayStats,
+    ) -> StepBound<T> {
+        let len = e - t;
+        if QUADRATIC {
+            let b = by_kind(
+                BoundKind::Mixed,
+                stats,
+                || bottom_up_quadratic(field, ray, t, e),
+                || field.taylor_quadratic(ray, t, e),
+                ForwardQuadratic::tighter,
+            );
+            StepBound::from_quadratic_or_unsupported(b, len)
+        } else {
+            let b = by_kind(
+                BoundKind::Mixed,
+                stats,
+                || field.eval(ray.at(t, e)),
+                || field.taylor_linear(ray, t, e),
+                ForwardLinear::tighter,
+            );
+            StepBound::from_linear_or_unsupported(b, len)
+        }
+    }
+}
+
 /// The window marcher (forward-inclusion paper Alg. 1) from `st`, under
 /// `guard`: `stop` with the final record, or paused (`!stop`, `trace` the
 /// counts so far) with `st` where to resume.
@@ -1821,8 +1861,9 @@ mod tests {
     #[test]
     fn every_marcher_in_legs_matches_one_trace() {
         use crate::trace::{
-            trace_in, trace_linear_bottom_up_resume_in, trace_linear_taylor_resume_in,
-            trace_quadratic_bottom_up_resume_in, trace_quadratic_taylor_resume_in, trace_resume_in,
+            trace_in, trace_linear_bottom_up_resume_in, trace_linear_mixed_resume_in,
+            trace_linear_taylor_resume_in, trace_quadratic_bottom_up_resume_in,
+            trace_quadratic_mixed_resume_in, trace_quadratic_taylor_resume_in, trace_resume_in,
             trace_segment_resume_in,
         };
         use boundtrace_fields::{Blobs, Kernel, PointBlob};
@@ -1895,6 +1936,14 @@ mod tests {
                                         &mut guard,
                                     )
                                 }
+                                Method::LinearMixed if one => trace_linear_mixed_resume_in(
+                                    &blobs, &ray, span, mode, &p, &mut buf, window, &mut st,
+                                    &mut guard,
+                                ),
+                                Method::QuadraticMixed if one => trace_quadratic_mixed_resume_in(
+                                    &blobs, &ray, span, mode, &p, &mut buf, window, &mut st,
+                                    &mut guard,
+                                ),
                                 _ => trace_resume_in(
                                     &blobs, &ray, span, m, mode, &p, &mut buf, window, &mut st,
                                     &mut guard,

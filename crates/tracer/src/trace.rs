@@ -495,6 +495,24 @@ single_method_resume!(
     Method::QuadraticBottomUp
 );
 
+single_method_resume!(
+    /// [`trace_resume_in`] with [`Method::LinearMixed`] (the bottom-up and
+    /// Taylor linear bounds, the tighter side of each), reached without the
+    /// method dispatch (see [`trace_segment_resume_in`]). Equal to
+    /// [`trace_resume_in`]'s trace bit for bit.
+    trace_linear_mixed_resume_in,
+    march::MixedWindow<false>,
+    Method::LinearMixed
+);
+
+single_method_resume!(
+    /// [`trace_linear_mixed_resume_in`] with [`Method::QuadraticMixed`] (the
+    /// bottom-up and Taylor quadratic bounds, the tighter side of each).
+    trace_quadratic_mixed_resume_in,
+    march::MixedWindow<true>,
+    Method::QuadraticMixed
+);
+
 /// One leg of the window marcher with the bounds `B` (the body of the
 /// single-method resume functions).
 #[allow(clippy::too_many_arguments)]
