@@ -18,8 +18,10 @@
 #     …-linear-mixed-blobs.spv, …-linear-mixed-groups.spv,
 #     …-quadratic-mixed-blobs.spv, …-quadratic-mixed-groups.spv (forward mixed bounds;
 #                                         only with BOUNDTRACE_MIXED_MODULES=1)
+#     …-scalis.spv                        (`scalis-quadratic` and `interval` on SCALIS skeletons;
+#                                         only with BOUNDTRACE_SCALIS_MODULE=1)
 #
-# The bottom-up and mixed modules are written as rust-gpu links them,
+# The bottom-up, mixed and SCALIS modules are written as rust-gpu links them,
 # without spirv-opt (seconds instead of minutes, and a few GB instead of
 # ~19 GB or more than this machine's 24 GB): the driver inlines and
 # optimises them (lavapipe does, in about the time it takes with an
@@ -96,4 +98,12 @@ if [ -z "${BOUNDTRACE_SHADER_FEATURES:-}" ]; then
             module "$method-$kind" "${out%.spv}-$method-$kind.spv" no-opt
         done
     done
+    # `scalis-quadratic` and `interval` on SCALIS skeletons (one entry
+    # point, `trace_scalis`), without spirv-opt likewise; only with
+    # BOUNDTRACE_SCALIS_MODULE=1: lavapipe needs more than 19 GB to compile
+    # its pipeline (BENCHMARKS.md "GPU", session 29).
+    if [ "${BOUNDTRACE_SCALIS_MODULE:-}" = 1 ]; then
+        echo "==> compiling the scalis module (no spirv-opt)"
+        module scalis "${out%.spv}-scalis.spv" no-opt
+    fi
 fi

@@ -78,6 +78,7 @@ pub(crate) fn sub<T: Real>(a: [T; 3], b: [T; 3]) -> [T; 3] {
 /// Invariants (checked by [`Segment::new`]): finite end-points and radii,
 /// `ra > 0`, `rb > 0`, `|b − a| > 0`.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C)]
 pub struct Segment<T> {
     a: [T; 3],
     ra: T,

@@ -205,21 +205,32 @@ fn series_limit<T: Real>() -> f64 {
 /// assert!(s.eval([0.0, 1.5, 0.0]) > 0.0); // outside
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C)]
 pub struct ScalisSegment<T> {
     seg: Segment<T>,
-    kernel: SegmentKernel<T>,
+    /// The kernel's kind: [`KIND_COMPACT`] or [`KIND_CAUCHY`] (an enum
+    /// with data cannot live in a GPU storage buffer; [`kernel`](Self::kernel)
+    /// rebuilds it from this, `degree` and `sigma`).
+    kind: u32,
+    /// The kernel's degree `n`.
+    degree: u32,
     iso: T,
     /// Half-degree `m` (compact) or `0` (Cauchy).
     m: u32,
+    /// The kernel's scale `σ`.
     sigma: T,
     half: T,
     tc: T,
     delta: T,
     /// Density scale: `1/(N σ^{2m})` (compact), `(1 + σ²)c/2` (Cauchy).
     scale: T,
-    /// Series tiers: `(|q| bound, terms K + 1, relative widening 2δ)`,
-    /// increasing bounds up to `ρ*` (compact kernels only).
-    tiers: [(T, u32, T); TIERS],
+    /// Series tiers, increasing bounds up to `ρ*` (compact kernels only):
+    /// the `|q|` bound of each,
+    tier_bound: [T; TIERS],
+    /// its number of terms `K + 1`,
+    tier_terms: [u32; TIERS],
+    /// and its relative widening `2δ`.
+    tier_widen: [T; TIERS],
     /// `τ_c^{−e} C(k+e−1, e−1) (−Δ/τ_c)^k`.
     beta: [T; MAX_TERMS],
     /// `max |k'|`.
@@ -229,6 +240,17 @@ pub struct ScalisSegment<T> {
     /// The support box `[lo, hi]` (compact kernels; infinite for Cauchy).
     support_box: [[T; 3]; 2],
 }
+
+/// [`ScalisSegment`]'s kernel kind code of a compact polynomial kernel.
+const KIND_COMPACT: u32 = 0;
+/// [`ScalisSegment`]'s kernel kind code of a Cauchy kernel.
+const KIND_CAUCHY: u32 = 1;
+
+/// The number of 32-bit words of a [`ScalisSegment<f32>`] as stored
+/// (`#[repr(C)]`, every field a 4-byte word or an array of them):
+/// [`ScalisSegment::to_words`] writes them in memory order, the layout a
+/// GPU storage buffer of segments holds.
+pub const SCALIS_SEGMENT_WORDS: usize = 13 + 9 + 3 * TIERS + MAX_TERMS + 2 + 6;
 
 fn binom(n: u32, k: u32) -> f64 {
     let mut r = 1.0f64;
@@ -272,6 +294,61 @@ fn series_tier(rho: f64, e: u32, eps: f64) -> (u32, f64) {
     }
 }
 
+impl ScalisSegment<f32> {
+    /// The segment's [`SCALIS_SEGMENT_WORDS`] words in memory order (`f32`s
+    /// as their bits): the bytes of a GPU storage buffer of segments, which
+    /// a shader reads as `&[ScalisSegment<f32>]`.
+    pub fn to_words(&self) -> [u32; SCALIS_SEGMENT_WORDS] {
+        let mut w = [0u32; SCALIS_SEGMENT_WORDS];
+        let mut n = 0;
+        let mut put = |x: u32| {
+            w[n] = x;
+            n += 1;
+        };
+        let s = &self.seg;
+        for k in 0..3 {
+            put(s.a()[k].to_bits());
+        }
+        put(s.ra().to_bits());
+        for k in 0..3 {
+            put(s.b()[k].to_bits());
+        }
+        put(s.rb().to_bits());
+        for k in 0..3 {
+            put(s.axis()[k].to_bits());
+        }
+        put(s.length().to_bits());
+        put(s.radius_slope().to_bits());
+        put(self.kind);
+        put(self.degree);
+        put(self.iso.to_bits());
+        put(self.m);
+        for x in [self.sigma, self.half, self.tc, self.delta, self.scale] {
+            put(x.to_bits());
+        }
+        for x in self.tier_bound {
+            put(x.to_bits());
+        }
+        for x in self.tier_terms {
+            put(x);
+        }
+        for x in self.tier_widen {
+            put(x.to_bits());
+        }
+        for x in self.beta {
+            put(x.to_bits());
+        }
+        put(self.kprime_max.to_bits());
+        put(self.inv_norm.to_bits());
+        for corner in self.support_box {
+            for x in corner {
+                put(x.to_bits());
+            }
+        }
+        w
+    }
+}
+
 impl<T: Real> ScalisSegment<T> {
     /// The SCALIS primitive of `segment` with `kernel`, normalized for the
     /// iso-value `iso > 0`.
@@ -296,9 +373,14 @@ impl<T: Real> ScalisSegment<T> {
             delta.as_f64(),
             half.as_f64(),
         );
+        let (kind, degree) = match kernel {
+            SegmentKernel::CompactPolynomial { degree, .. } => (KIND_COMPACT, degree),
+            SegmentKernel::Cauchy { degree, .. } => (KIND_CAUCHY, degree),
+        };
         let mut out = Self {
             seg: segment,
-            kernel,
+            kind,
+            degree,
             iso,
             m: 0,
             sigma,
@@ -306,7 +388,9 @@ impl<T: Real> ScalisSegment<T> {
             tc,
             delta,
             scale: T::ZERO,
-            tiers: [(T::ZERO, 0, T::ZERO); TIERS],
+            tier_bound: [T::ZERO; TIERS],
+            tier_terms: [0; TIERS],
+            tier_widen: [T::ZERO; TIERS],
             beta: [T::ZERO; MAX_TERMS],
             kprime_max: T::ZERO,
             inv_norm: T::ZERO,
@@ -363,7 +447,9 @@ impl<T: Real> ScalisSegment<T> {
                 while i < TIERS {
                     let rho = rho_max * TIER_FRACTIONS[i];
                     let (terms, tol) = series_tier(rho, e, T::EPSILON.as_f64());
-                    out.tiers[i] = (T::from_f64(rho), terms, T::from_f64(tol));
+                    out.tier_bound[i] = T::from_f64(rho);
+                    out.tier_terms[i] = terms;
+                    out.tier_widen[i] = T::from_f64(tol);
                     kmax = kmax.max(terms);
                     i += 1;
                 }
@@ -404,7 +490,17 @@ impl<T: Real> ScalisSegment<T> {
     /// The kernel.
     #[inline]
     pub fn kernel(&self) -> SegmentKernel<T> {
-        self.kernel
+        if self.kind == KIND_CAUCHY {
+            SegmentKernel::Cauchy {
+                degree: self.degree,
+                sigma: self.sigma,
+            }
+        } else {
+            SegmentKernel::CompactPolynomial {
+                degree: self.degree,
+                sigma: self.sigma,
+            }
+        }
     }
     /// The iso-value `c`.
     #[inline]
@@ -493,14 +589,21 @@ impl<T: Real> ScalisSegment<T> {
         let q = w * self.delta / tm;
         let qa = q.abs().enclosure();
         let lim = T::from_f64(series_limit::<T>());
-        if qa.hi() <= lim {
-            self.integrate_series(&poly, deg, w, tm, q, qa.hi())
-        } else if qa.lo() > lim {
-            self.integrate_fractions(&poly, deg, w, tm)
-        } else {
-            self.integrate_series(&poly, deg, w, tm, q, lim)
-                .join(self.integrate_fractions(&poly, deg, w, tm))
+        // The series where |q| ≤ ρ*, the fractions where |q| > ρ*, both
+        // (joined, the series up to ρ*) when |q| straddles ρ*: each called
+        // from one place, since a GPU driver inlines every call.
+        let only_series = qa.hi() <= lim;
+        let only_fractions = !only_series && qa.lo() > lim;
+        let mut out = zero;
+        if !only_fractions {
+            let qmax = if only_series { qa.hi() } else { lim };
+            out = self.integrate_series(&poly, deg, w, tm, q, qmax);
         }
+        if !only_series {
+            let f = self.integrate_fractions(&poly, deg, w, tm);
+            out = if only_fractions { f } else { out.join(f) };
+        }
+        out
     }
 
     /// Centred series (`poly` in `z = y − y_m ∈ [−w, w]`):
@@ -522,16 +625,16 @@ impl<T: Real> ScalisSegment<T> {
         let q = -q;
         let q2 = q.sqr();
         // the first tier whose bound covers |q| (the last one is ρ* ≥ qmax)
-        let mut tier = self.tiers[TIERS - 1];
+        let mut tier = TIERS - 1;
         let mut ti = 0;
         while ti < TIERS {
-            if qmax <= self.tiers[ti].0 {
-                tier = self.tiers[ti];
+            if qmax <= self.tier_bound[ti] {
+                tier = ti;
                 break;
             }
             ti += 1;
         }
-        let (kmax, tol) = (tier.1 as usize, tier.2); // k < kmax
+        let (kmax, tol) = (self.tier_terms[tier] as usize, self.tier_widen[tier]); // k < kmax
         let mut acc = zero;
         let mut wp = w; // w^{j+1}
         let mut j = 0usize;
@@ -598,7 +701,15 @@ impl<T: Real> ScalisSegment<T> {
             if pw == 0 {
                 acc = acc + c[i] * (tau1 * r0).ln();
             } else if pw > 0 {
-                acc = acc + c[i] * (r1.powi(pw) - r0.powi(pw)) / T::from_f64(-f64::from(pw));
+                // both powers from one `powi` call (one inlined copy)
+                let rr = [r0, r1];
+                let mut pp = [zero; 2];
+                let mut q = 0;
+                while q < 2 {
+                    pp[q] = rr[q].powi(pw);
+                    q += 1;
+                }
+                acc = acc + c[i] * (pp[1] - pp[0]) / T::from_f64(-f64::from(pw));
             }
             i += 1;
         }
@@ -627,21 +738,49 @@ impl<T: Real> ScalisSegment<T> {
         let same_pos = e0.lo() >= T::ZERO;
         let same_neg = e1.hi() <= T::ZERO;
         let across = e0.hi() < T::ZERO && e1.lo() > T::ZERO;
-        let stable_k0 = || dv2 / (r0 * r1 * (v1 * r0 + v0 * r1));
-        let direct_k0 = || (v1 / r1 - v0 / r0) / e2;
-        let pos_as = || ((v1 + r1) / (v0 + r0)).ln();
-        let neg_as = || ((r0 - v0) / (r1 - v1)).ln();
-        let across_as = || ((v1 + r1) * (r0 - v0) / e2).ln();
-        let (k0, ash) = if same_pos {
-            (stable_k0(), pos_as())
-        } else if same_neg {
-            (stable_k0(), neg_as())
-        } else if across {
-            (direct_k0(), across_as())
+        // The case (the first that holds), or all of them joined when none
+        // is certain; each formula is written once and computed only when
+        // needed (a GPU driver inlines every call site).
+        let case_pos = same_pos;
+        let case_neg = !same_pos && same_neg;
+        let case_across = !same_pos && !same_neg && across;
+        let mixed = !case_pos && !case_neg && !case_across;
+        let zero = N::constant(T::ZERO);
+        let stable_k0 = if case_across {
+            zero
+        } else {
+            dv2 / (r0 * r1 * (v1 * r0 + v0 * r1))
+        };
+        let direct_k0 = if case_across || mixed {
+            (v1 / r1 - v0 / r0) / e2
+        } else {
+            zero
+        };
+        let pos_as = if case_pos || mixed {
+            ((v1 + r1) / (v0 + r0)).ln()
+        } else {
+            zero
+        };
+        let neg_as = if case_neg || mixed {
+            ((r0 - v0) / (r1 - v1)).ln()
+        } else {
+            zero
+        };
+        let across_as = if case_across || mixed {
+            ((v1 + r1) * (r0 - v0) / e2).ln()
+        } else {
+            zero
+        };
+        let (k0, ash) = if case_pos {
+            (stable_k0, pos_as)
+        } else if case_neg {
+            (stable_k0, neg_as)
+        } else if case_across {
+            (direct_k0, across_as)
         } else {
             (
-                stable_k0().join(direct_k0()),
-                pos_as().join(neg_as()).join(across_as()),
+                stable_k0.join(direct_k0),
+                pos_as.join(neg_as).join(across_as),
             )
         };
         let k2 = ash - k0 * e2;
@@ -685,8 +824,14 @@ impl<T: Real> ScalisSegment<T> {
         };
         // ∇f = −2m·scale·[(p − q(y_m))·J0 − u·J1], J0 = ∫P^{m−1}/τ^e,
         // J1 = ∫(y − y_m)P^{m−1}/τ^e
-        let j0 = self.integrate(&poly, self.m - 1, 0, y0, y1);
-        let j1 = self.integrate(&poly, self.m - 1, 1, y0, y1);
+        // (one `integrate` call in a loop: one inlined copy on a GPU)
+        let mut jj = [zero; 2];
+        let mut r = 0;
+        while r < 2 {
+            jj[r] = self.integrate(&poly, self.m - 1, r as u32, y0, y1);
+            r += 1;
+        }
+        let [j0, j1] = jj;
         let ym = (y0 + y1) * T::HALF;
         let mid = self.seg.point_at(self.half);
         let u = self.seg.axis();
@@ -706,19 +851,48 @@ impl<T: Real> ScalisSegment<T> {
     /// `f'' = 1/(Nσ^{2m}) ∫ [4m(m−1)P^{m−2}((p − q)·d)² − 2m|d|²P^{m−1}]/τ^e`,
     /// with `(p − q(y))·d = (p − q(y_m))·d − z·(u·d)`.
     pub fn second_derivative_generic<N: FieldNum<T>>(&self, p: [N; 3], d: [T; 3]) -> Option<N> {
+        if self.has_second_derivative() {
+            Some(self.second_derivative_closed_form(p, d))
+        } else {
+            None
+        }
+    }
+
+    /// Whether [`second_derivative_generic`](Self::second_derivative_generic)
+    /// has a closed form (a compact kernel of degree ≥ 4).
+    #[inline]
+    pub fn has_second_derivative(&self) -> bool {
+        self.m >= 2
+    }
+
+    /// [`second_derivative_generic`](Self::second_derivative_generic)
+    /// without the `Option` (a GPU shader's form): the closed form where
+    /// [`has_second_derivative`](Self::has_second_derivative), a NaN
+    /// constant otherwise.
+    pub fn second_derivative_closed_form<N: FieldNum<T>>(&self, p: [N; 3], d: [T; 3]) -> N {
         if self.m < 2 {
-            return None;
+            return N::constant(T::nan());
         }
         let (x, d2) = self.seg.axial(p);
         let xc = x - self.half;
         let (poly, y0, y1) = match self.clip(xc, d2) {
             Ok(c) => c,
-            Err(z) => return Some(z),
+            Err(z) => return z,
         };
-        let i0 = self.integrate(&poly, self.m - 2, 0, y0, y1);
-        let i1 = self.integrate(&poly, self.m - 2, 1, y0, y1);
-        let i2 = self.integrate(&poly, self.m - 2, 2, y0, y1);
-        let j = self.integrate(&poly, self.m - 1, 0, y0, y1);
+        // `∫P^{m−2}z^r/τ^e` for r = 0, 1, 2 and `∫P^{m−1}/τ^e`, from one
+        // `integrate` call in a loop (one inlined copy on a GPU)
+        let mut ii = [N::constant(T::ZERO); 4];
+        let mut r = 0;
+        while r < 4 {
+            let (pw, zp) = if r < 3 {
+                (self.m - 2, r as u32)
+            } else {
+                (self.m - 1, 0)
+            };
+            ii[r] = self.integrate(&poly, pw, zp, y0, y1);
+            r += 1;
+        }
+        let [i0, i1, i2, j] = ii;
         let ym = (y0 + y1) * T::HALF;
         let mid = self.seg.point_at(self.half);
         let u = self.seg.axis();
@@ -729,10 +903,7 @@ impl<T: Real> ScalisSegment<T> {
             + (p[2] - mid[2] - ym * u[2]) * d[2];
         let mf = f64::from(self.m);
         let sq = w0.sqr() * i0 - w0 * i1 * (T::TWO * ud) + i2 * (ud * ud);
-        Some(
-            (sq * T::from_f64(4.0 * mf * (mf - 1.0)) - j * (T::from_f64(2.0 * mf) * dd))
-                * self.scale,
-        )
+        (sq * T::from_f64(4.0 * mf * (mf - 1.0)) - j * (T::from_f64(2.0 * mf) * dd)) * self.scale
     }
 
     /// A quadratic Taylor bound of the field `iso − f` along `ray` on
@@ -884,19 +1055,27 @@ impl<T: Real> ScalisSegment<T> {
         }
         let h = h2.sqrt() * (1.0 - 1e-12);
         let sf = self.sigma.as_f64();
+        // Powers by products and one square root: no `powf` in `f64`,
+        // which a GPU has no instruction for (`(1 + u)^{−5/2}` to a few
+        // ulps, far inside the `1e-9` margin below).
         let (hstar, k) = if self.m == 0 {
             let u = h * h / (sf * sf);
-            (sf * 0.5, 3.0 * h / (sf * sf) * (1.0 + u).powf(-2.5))
+            let v = 1.0 + u;
+            (sf * 0.5, 3.0 * h / (sf * sf) / (v * v * v.sqrt()))
         } else {
             if h >= sf {
                 return T::ZERO;
             }
             let mf = f64::from(self.m);
             let u = h * h / (sf * sf);
-            (
-                sf / (2.0 * mf - 1.0).sqrt(),
-                2.0 * mf * h / (sf * sf) * (1.0 - u).powf(mf - 1.0),
-            )
+            // (1 − u)^{m−1}
+            let mut pw = 1.0;
+            let mut i = 1;
+            while i < self.m {
+                pw *= 1.0 - u;
+                i += 1;
+            }
+            (sf / (2.0 * mf - 1.0).sqrt(), 2.0 * mf * h / (sf * sf) * pw)
         };
         if h <= hstar {
             return self.kprime_max;
@@ -931,8 +1110,15 @@ impl<T: Real> ScalisSegment<T> {
     /// from the sign of a sound derivative enclosure on the whole interval,
     /// and the two Lipschitz lines (Fig. 2.2 right) otherwise.
     pub fn density_range(&self, ray: &Ray<T>, t0: T, t1: T) -> Interval<T> {
-        let f0: Interval<T> = self.density(ray.at(t0, t0));
-        let f1: Interval<T> = self.density(ray.at(t1, t1));
+        // both ends from one `density` call (one inlined copy on a GPU)
+        let ts = [t0, t1];
+        let mut fs = [Interval::point(T::ZERO); 2];
+        let mut k = 0;
+        while k < 2 {
+            fs[k] = self.density(ray.at(ts[k], ts[k]));
+            k += 1;
+        }
+        let [f0, f1] = fs;
         let d = self.derivative_range(ray, t0, t1);
         let h = Interval::point(t1) - Interval::point(t0);
         let zero = Interval::point(T::ZERO);
@@ -1056,6 +1242,13 @@ fn enclose3<T: Real, N: FieldNum<T>>(p: &[N; 3]) -> [Interval<T>; 3] {
 }
 
 impl<T: Real> ScalisSegment<T> {
+    /// Whether the support is compact (a compact kernel: a
+    /// [`support_box`](Self::support_box)); `false` for the Cauchy kernel.
+    #[inline]
+    pub fn has_compact_support(&self) -> bool {
+        self.m != 0
+    }
+
     /// The axis-aligned box `[lo, hi]` outside of which the density is
     /// exactly `0` (compact kernels: the segment's box grown by
     /// `σ·max(r_a, r_b)`, rounded outward); `None` for the Cauchy kernel
@@ -1139,7 +1332,7 @@ impl<T: Real, S: AsRef<[ScalisSegment<T>]>> ScalisSkeleton<T, S> {
         };
         if segs
             .iter()
-            .any(|s| s.kernel != first.kernel || s.iso != first.iso)
+            .any(|s| s.kernel() != first.kernel() || s.iso != first.iso)
         {
             return Err(FieldError::InvalidParameter {
                 name: "segments",
@@ -1148,6 +1341,17 @@ impl<T: Real, S: AsRef<[ScalisSegment<T>]>> ScalisSkeleton<T, S> {
         }
         let iso = first.iso;
         Ok(Self { segments, iso })
+    }
+
+    /// A skeleton of `segments` with the iso-value `iso`, unchecked: the
+    /// GPU shader's form, which cannot build [`new`](Self::new)'s errors.
+    /// The caller vouches that `segments` is what `new` accepts (non-empty,
+    /// one kernel and iso-value, checked on the host before upload) and
+    /// that `iso` is their iso-value; otherwise results are meaningless
+    /// (never undefined behaviour).
+    #[inline]
+    pub fn new_unchecked(segments: S, iso: T) -> Self {
+        Self { segments, iso }
     }
 
     /// The segments.
@@ -1169,7 +1373,12 @@ impl<T: Real, S: AsRef<[ScalisSegment<T>]>> ScalisSkeleton<T, S> {
         // culled must not claim validity beyond the interval the culling
         // was decided on (a constant's is infinite).
         let mut acc = crate::zero_like::<T, N>(&p[0]);
-        for s in self.segments.as_ref() {
+        // an index loop (rust-gpu cannot iterate a storage buffer's slice)
+        let segs = self.segments.as_ref();
+        let mut i = 0;
+        while i < segs.len() {
+            let s = &segs[i];
+            i += 1;
             if s.misses(&e) {
                 continue;
             }
@@ -1301,6 +1510,33 @@ mod tests {
 
     fn seg(ra: f64, rb: f64) -> Segment<f64> {
         Segment::new([0.0, 0.0, 0.0], ra, [3.0, 0.0, 0.0], rb).unwrap()
+    }
+
+    #[test]
+    fn words_are_the_whole_f32_segment_and_the_kernel_round_trips() {
+        // every field a 4-byte word: no padding, so the words are the bytes
+        assert_eq!(
+            core::mem::size_of::<ScalisSegment<f32>>(),
+            4 * SCALIS_SEGMENT_WORDS
+        );
+        let k = SegmentKernel::compact_polynomial(6, 2.0f32).unwrap();
+        let sg = Segment::new([0.5f32, -1.0, 2.0], 0.25, [3.0, 1.0, 2.5], 0.5).unwrap();
+        let s = ScalisSegment::new(sg, k, 1.0).unwrap();
+        assert_eq!(s.kernel(), k);
+        let w = s.to_words();
+        assert_eq!(w[0], 0.5f32.to_bits());
+        assert_eq!(w[3], 0.25f32.to_bits());
+        assert_eq!(w[13], KIND_COMPACT);
+        assert_eq!(w[14], 6);
+        assert_eq!(w[15], 1.0f32.to_bits());
+        assert_eq!(w[16], 3); // m
+        assert_eq!(w[17], 2.0f32.to_bits()); // σ
+        assert_eq!(w[SCALIS_SEGMENT_WORDS - 6], s.support_box[0][0].to_bits());
+        assert_eq!(w[SCALIS_SEGMENT_WORDS - 1], s.support_box[1][2].to_bits());
+        let c = SegmentKernel::cauchy(3, 2.0f32).unwrap();
+        let sc = ScalisSegment::new(sg, c, 1.0).unwrap();
+        assert_eq!(sc.kernel(), c);
+        assert_eq!(sc.to_words()[13], KIND_CAUCHY);
     }
 
     #[test]

@@ -45,8 +45,10 @@
 compile_error!("boundtrace-gpu-kernel needs the `std` or the `libm` feature for its math");
 
 mod groups;
+mod scalis;
 
 pub use groups::FlatBlobGroups;
+pub use scalis::render_scalis_leg;
 
 use boundtrace_fields::AlgebraicPrimitives;
 use boundtrace_fields::blobtree::{BlobtreeRef, BlobtreeWindow};
@@ -92,6 +94,11 @@ pub enum SceneKind {
     /// The sharp union of blob groups ([`FlatBlobGroups`]): group ends in
     /// the `u32` buffer, blobs in the blob buffer.
     BlobGroups = 2,
+    /// A SCALIS skeleton ([`render_scalis_leg`]): its segments in the
+    /// blob buffer's binding, the frame's per-ray primitive lists in the
+    /// `f32` buffer's and their offsets (one per pixel, and the end) in
+    /// the `u32` buffer, with [`Constants::iso`].
+    Scalis = 3,
 }
 
 impl SceneKind {
@@ -101,6 +108,7 @@ impl SceneKind {
             0 => Some(Self::Blobtree),
             1 => Some(Self::Blobs),
             2 => Some(Self::BlobGroups),
+            3 => Some(Self::Scalis),
             _ => None,
         }
     }
@@ -1172,6 +1180,8 @@ fn render_with<P: PixelKernel, K: SceneKinds>(
             }
         }
         Some(SceneKind::BlobGroups) => unsupported(),
+        // traced by `render_scalis_leg` alone
+        Some(SceneKind::Scalis) => unsupported(),
         None => unsupported(),
     }
 }

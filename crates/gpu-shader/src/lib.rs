@@ -26,12 +26,20 @@
 //!   inclusions from Taylor bounds), features `linear-taylor-blobs`, …:
 //!   each in a module of its own (`scripts/build-spirv.sh` builds all
 //!   eight);
+//! - `trace_scalis`: `scalis-quadratic` and the per-primitive `interval`
+//!   bisection on SCALIS skeletons (`render_scalis_leg`, over the frame's
+//!   primitive lists, built on the host), feature `scalis`, a module of its
+//!   own with other bindings 1–3 (list offsets, lists, segments);
 //! - `trace_pixels`: every GPU method ([`render_pixel`]), feature `trace`
 //!   (`BOUNDTRACE_SHADER_FEATURES=trace scripts/build-spirv.sh`): it links,
 //!   but is too large for such a driver (BENCHMARKS.md "GPU").
 #![cfg_attr(target_arch = "spirv", no_std)]
 
+// (unused in a module of the `scalis` entry point alone)
+#[allow(unused_imports)]
 use boundtrace_fields::PointBlob;
+#[cfg(feature = "scalis")]
+use boundtrace_fields::scalis::ScalisSegment;
 #[allow(unused_imports)]
 use boundtrace_gpu_kernel as kernel;
 #[cfg(feature = "trace")]
@@ -39,6 +47,8 @@ use boundtrace_gpu_kernel::render_pixel;
 use boundtrace_gpu_kernel::{Constants, HitOut, PixelLeg, PixelOut};
 use boundtrace_ia_core::{Interval, round};
 use boundtrace_tracer::Root;
+#[cfg(feature = "scalis")]
+use boundtrace_tracer::scalis::PrimitiveHit;
 use spirv_std::glam::UVec3;
 use spirv_std::spirv;
 
@@ -431,6 +441,44 @@ fn leg_entry<R>(
     let mut out = pixels[i];
     render(
         &c, words, floats, blobs, id.x, id.y, roots, hits, base, &mut leg, &mut out,
+    );
+    legs[i] = leg;
+    pixels[i] = out;
+}
+
+/// `scalis-quadratic` and the per-primitive `interval` bisection on SCALIS
+/// skeletons (`render_scalis_leg`), feature `scalis`, a module of its own:
+/// the leg entry points' layout and legs, with the `u32` buffer holding the
+/// per-pixel offsets of the primitive lists, binding 2 the lists
+/// (`PrimitiveHit<f32>`, built on the host) and binding 3 the segments
+/// (`ScalisSegment<f32>`).
+#[cfg(feature = "scalis")]
+#[allow(clippy::too_many_arguments)]
+#[spirv(compute(threads(8, 8)))]
+pub fn trace_scalis(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] constants: &Constants,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] offsets: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] lists: &[PrimitiveHit<f32>],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] segments: &[ScalisSegment<f32>],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] pixels: &mut [PixelOut],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] hits: &mut [HitOut],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] roots: &mut [Root<f32>],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] legs: &mut [PixelLeg],
+) {
+    let c = *constants;
+    if id.x >= c.width || id.y >= c.height {
+        return;
+    }
+    let i = (id.y * c.width + id.x) as usize;
+    if i >= pixels.len() || i >= legs.len() {
+        return;
+    }
+    let base = i * c.max_roots as usize;
+    let mut leg = legs[i];
+    let mut out = pixels[i];
+    kernel::render_scalis_leg(
+        &c, offsets, lists, segments, id.x, id.y, roots, hits, base, &mut leg, &mut out,
     );
     legs[i] = leg;
     pixels[i] = out;

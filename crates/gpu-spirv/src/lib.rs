@@ -68,8 +68,17 @@
 //! spirv-opt (the driver inlines and optimises them; lavapipe does,
 //! BENCHMARKS.md "GPU", session 28); `scripts/build-spirv.sh` builds the
 //! mixed ones only with `BOUNDTRACE_MIXED_MODULES=1` (lavapipe needs
-//! 8-9 min and ≈ 20 GB per mixed pipeline). The other methods (interval, affine,
-//! `scalis-quadratic`) live in the
+//! 8-9 min and ≈ 20 GB per mixed pipeline). `scalis-quadratic` and the
+//! per-primitive `interval` bisection on SCALIS skeletons have a module of
+//! their own (`trace_scalis`, built without spirv-opt and only with
+//! `BOUNDTRACE_SCALIS_MODULE=1`: lavapipe needs more than 19 GB to compile
+//! it): [`GpuScene::from_scene`] takes the SCALIS scenes, and each frame's
+//! per-ray primitive lists (the A-buffer of thesis Part III §1.5) are
+//! built on the host ([`PrimitiveLists`]) and uploaded with the segments;
+//! the kernel is the tracer's
+//! [`trace_scalis_in`](boundtrace_tracer::scalis::trace_scalis_in), and on
+//! the host it gives the CPU renderer's frames bit for bit (unit test). The
+//! other methods (interval and affine on other scenes) live in the
 //! `trace_pixels` entry point
 //! ([`render_pixel`](boundtrace_gpu_kernel::render_pixel), shader feature
 //! `trace`), which rust-gpu links but which is still far too large for a
@@ -124,13 +133,16 @@
 //! Subnormals are assumed preserved (Vulkan allows flushing them).
 
 use boundtrace_fields::PointBlob;
+use boundtrace_fields::scalis::{SCALIS_SEGMENT_WORDS, ScalisSegment};
 use boundtrace_gpu_kernel::{
     Constants, HitOut, PHASE_DONE, PHASE_SHADING, PixelLeg, PixelOut, WORKGROUP,
 };
 pub use boundtrace_gpu_kernel::{MAX_GPU_ROOTS, SceneKind};
 use boundtrace_tracer::camera::Camera;
+use boundtrace_tracer::camera::ray_box_span;
 use boundtrace_tracer::pixel::PixelSetup;
 use boundtrace_tracer::render::{Frame, Hit, Pixel, RenderError, RenderSettings};
+use boundtrace_tracer::scalis::{PrimitiveHit, PrimitiveLists, check_segments};
 use boundtrace_tracer::scenes::{Scene, SceneField};
 use boundtrace_tracer::tile_programs::{TILE_SIZE, TilePrograms};
 use boundtrace_tracer::{Method, Mode, RayStats, Side, Status, Trace};
@@ -161,7 +173,7 @@ const SPHERE_ENTRY: &str = "trace_sphere";
 /// file name and its entry point (`segment-blobs`: feature
 /// `segment-blobs`, `…-segment-blobs.spv`, `trace_segment_blobs`); see
 /// [`leg_spirv_path`].
-const LEG_MODULE_LIST: [(Method, SceneKind, &str); 15] = [
+const LEG_MODULE_LIST: [(Method, SceneKind, &str); 17] = [
     (Method::Segment, SceneKind::Blobs, "segment-blobs"),
     (Method::Segment, SceneKind::BlobGroups, "segment-groups"),
     (
@@ -221,6 +233,10 @@ const LEG_MODULE_LIST: [(Method, SceneKind, &str); 15] = [
         SceneKind::BlobGroups,
         "quadratic-mixed-groups",
     ),
+    // One module and entry point (`trace_scalis`) for both methods of the
+    // pre-segmented SCALIS processing.
+    (Method::ScalisQuadratic, SceneKind::Scalis, "scalis"),
+    (Method::Interval, SceneKind::Scalis, "scalis"),
 ];
 
 /// How many leg modules there are.
@@ -393,6 +409,8 @@ pub struct GpuScene {
     words: Vec<u32>,
     floats: Vec<f32>,
     blobs: Vec<PointBlob<f32>>,
+    /// The segments of a SCALIS skeleton ([`SceneKind::Scalis`]).
+    segments: Vec<ScalisSegment<f32>>,
     iso: f32,
     groups: u32,
     /// The global Lipschitz bound that replaces the blobs' own (`0`: none).
@@ -409,7 +427,10 @@ impl GpuScene {
     /// words and parameters as built, with the tree's Lipschitz bound as
     /// the CPU computes it; sphere tracing only, by the
     /// `sphere-blobtree` module, [`leg_spirv_path`]; primitives of every
-    /// kind but gyroids and blobs).
+    /// kind but gyroids and blobs), and the SCALIS skeletons
+    /// (`scalis-tree`, `scalis-foam`, `scalis-random`: the segments, for
+    /// `scalis-quadratic` and `interval` in the `scalis` module; the frame's
+    /// primitive lists are built at each render).
     ///
     /// A `molecule` field call loops over 500 atoms: lavapipe's llvmpipe
     /// allows 65,535 loop iterations per 8 pixels and dispatch, so its
@@ -423,8 +444,9 @@ impl GpuScene {
     ///
     /// # Errors
     /// [`GpuError::UnsupportedScene`] for the other scenes: the HRBF and
-    /// SCALIS scenes (no flat field yet), and blobtrees with gyroid or blob
-    /// primitives.
+    /// homothetic scenes (no flat field yet), SCALIS skeletons with an
+    /// infinite support (Cauchy kernels: no primitive lists), and blobtrees
+    /// with gyroid or blob primitives.
     pub fn from_scene(scene: &Scene<f32>) -> Result<Self, GpuError> {
         let bounds = scene.bounds();
         let unsupported = |why: &str| {
@@ -439,6 +461,7 @@ impl GpuScene {
             words: Vec::new(),
             floats: Vec::new(),
             blobs: Vec::new(),
+            segments: Vec::new(),
             iso: 0.0,
             groups: 0,
             lipschitz: 0.0,
@@ -496,7 +519,17 @@ impl GpuScene {
                 s.lipschitz = l;
             }
             SceneField::Hrbf(_) => return unsupported("HRBF has no flat GPU field yet"),
-            SceneField::Scalis(_) => return unsupported("SCALIS has no flat GPU field yet"),
+            SceneField::Scalis(w) => {
+                let sk = w.field();
+                if let Err(e) = check_segments(sk.segments()) {
+                    return unsupported(&format!(
+                        "its SCALIS segments have no primitive lists ({e})"
+                    ));
+                }
+                s.kind = SceneKind::Scalis;
+                s.iso = sk.iso();
+                s.segments = sk.segments().to_vec();
+            }
             SceneField::Homothetic(_) => {
                 return unsupported("homothetic skeletons have no flat GPU field yet");
             }
@@ -592,6 +625,74 @@ impl GpuScene {
     pub fn bounds(&self) -> [[f32; 3]; 2] {
         self.bounds
     }
+
+    /// The words of the scene buffers (bindings 1 to 3) of a frame through
+    /// `camera` with `settings`: node words or group ends, parameters and
+    /// blobs; for a SCALIS skeleton the frame's primitive lists
+    /// ([`scalis_lists`]), their offsets and the segments.
+    fn buffers(&self, camera: &Camera<f32>, settings: &RenderSettings<f32>) -> [Vec<u32>; 3] {
+        if self.kind == SceneKind::Scalis {
+            let (offsets, lists) = scalis_lists(&self.segments, self.bounds, camera, settings);
+            let segments = self.segments.iter().flat_map(|s| s.to_words()).collect();
+            return [offsets, lists, segments];
+        }
+        [
+            self.words.clone(),
+            self.floats.iter().map(|x| x.to_bits()).collect(),
+            blob_words(&self.blobs),
+        ]
+    }
+}
+
+/// The per-ray primitive lists of a SCALIS frame (the A-buffer of thesis
+/// Part III §1.5, built on the host, in parallel: [`PrimitiveLists`]):
+/// the offsets (`width·height + 1` words: pixel `i = y·width + x` has the
+/// hits `offsets[i]..offsets[i + 1]`) and the hits' words
+/// (`PrimitiveHit<f32>`: entry, exit, argmin, index). The rays are the
+/// shader's (and the CPU renderer's): [`Camera::ray`] through each pixel,
+/// clipped to the scene box by [`ray_box_span`]; a ray that misses the
+/// box has no hits. The lists are complete: where the CPU renderer's
+/// per-ray list (`SCALIS_LIST_CAPACITY` hits) would overflow and fall back
+/// to segment tracing, the GPU still traces the pre-segmented processing.
+fn scalis_lists(
+    segments: &[ScalisSegment<f32>],
+    bounds: [[f32; 3]; 2],
+    camera: &Camera<f32>,
+    settings: &RenderSettings<f32>,
+) -> (Vec<u32>, Vec<u32>) {
+    let (w, h) = (settings.width, settings.height);
+    let mut rays = Vec::new();
+    let mut which = Vec::with_capacity(w as usize * h as usize);
+    for y in 0..h {
+        for x in 0..w {
+            let ray = camera.ray(x, y, w, h);
+            match ray_box_span(&ray, &bounds) {
+                Some(span) => {
+                    which.push(Some(rays.len()));
+                    rays.push((ray, span));
+                }
+                None => which.push(None),
+            }
+        }
+    }
+    let lists = PrimitiveLists::build(segments, &rays);
+    let mut offsets = Vec::with_capacity(which.len() + 1);
+    let mut words = Vec::with_capacity(lists.total_hits() * 4);
+    offsets.push(0u32);
+    for r in which {
+        if let Some(r) = r {
+            for hit in lists.hits(r) {
+                words.extend_from_slice(&[
+                    hit.entry.to_bits(),
+                    hit.exit.to_bits(),
+                    hit.argmin.to_bits(),
+                    hit.index,
+                ]);
+            }
+        }
+        offsets.push((words.len() / 4) as u32);
+    }
+    (offsets, words)
 }
 
 /// `PointBlob<f32>` as the shader reads it (`#[repr(C)]`: center, weight,
@@ -744,7 +845,7 @@ impl GpuTracer {
         legs: &[(Method, SceneKind, &[u8])],
     ) -> Result<Self, GpuError> {
         check_magic(bytes)?;
-        check_layout(bytes, "the main module")?;
+        check_layout_of(bytes, "the main module", false)?;
         let mut modules: [Option<Vec<u8>>; LEG_MODULES] = Default::default();
         for &(method, kind, m) in legs {
             let slot = leg_slot(method, kind).ok_or_else(|| {
@@ -762,7 +863,7 @@ impl GpuTracer {
                 )));
             }
             check_magic(m)?;
-            check_layout(m, &leg_module(slot).2)?;
+            check_layout_of(m, &leg_module(slot).2, kind == SceneKind::Scalis)?;
             modules[slot] = Some(m.to_vec());
         }
         let mut gpu = pollster::block_on(Self::create(bytes))?;
@@ -1049,8 +1150,9 @@ impl GpuTracer {
             ..scene.constants(camera, settings, slots)
         };
         let n = settings.width as usize * settings.height as usize;
+        let data = scene.buffers(camera, settings);
         let (pix_words, hit_words, dispatches, dispatch) =
-            self.run(pipeline, resumable, &c, scene, n, n * slots as usize)?;
+            self.run(pipeline, resumable, &c, &data, n, n * slots as usize)?;
         let mut pixels = Vec::with_capacity(n);
         let mut hits = Vec::new();
         for i in 0..n {
@@ -1093,7 +1195,7 @@ impl GpuTracer {
         pipeline: &wgpu::ComputePipeline,
         resumable: bool,
         c: &Constants,
-        scene: &GpuScene,
+        data: &[Vec<u32>; 3],
         pixels: usize,
         hits: usize,
     ) -> Result<(Vec<u32>, Vec<u32>, u32, Duration), GpuError> {
@@ -1115,12 +1217,11 @@ impl GpuTracer {
                 usage: storage,
             })
         };
-        let floats: Vec<u32> = scene.floats.iter().map(|x| x.to_bits()).collect();
         let inputs = [
             input("constants", words_of(&c.to_words())),
-            input("words", words_of(&scene.words)),
-            input("floats", words_of(&floats)),
-            input("blobs", words_of(&blob_words(&scene.blobs))),
+            input("words", words_of(&data[0])),
+            input("floats", words_of(&data[1])),
+            input("blobs", words_of(&data[2])),
         ];
         let pix_bytes = (pixels * 9 * 4) as u64;
         let hit_bytes = (hits.max(1) * 5 * 4) as u64;
@@ -1555,14 +1656,26 @@ enum BufferLayout {
 /// The layouts this host gives the tracing entry points' buffers
 /// ([`STORAGE_ENTRIES`]): the constants, the scene's words, floats and
 /// blobs, then pixels, hits, roots and legs.
-fn host_layouts() -> [(u32, BufferLayout); 8] {
+/// With `scalis`, those of the SCALIS module
+/// (`trace_scalis`): binding 2 holds the frame's primitive lists
+/// (`PrimitiveHit<f32>`), binding 3 the segments (`ScalisSegment<f32>`,
+/// [`SCALIS_SEGMENT_WORDS`] words each).
+fn host_layouts_of(scalis: bool) -> [(u32, BufferLayout); 8] {
     use core::mem::size_of;
     let size = |n: usize| n as u32;
+    let (floats, blobs) = if scalis {
+        (
+            BufferLayout::Array(size(size_of::<PrimitiveHit<f32>>())),
+            BufferLayout::Array(size(4 * SCALIS_SEGMENT_WORDS)),
+        )
+    } else {
+        (BufferLayout::Array(4), BufferLayout::Array(size(7 * 4)))
+    };
     [
         (0, BufferLayout::Struct(size(size_of::<Constants>()))),
         (1, BufferLayout::Array(4)),
-        (2, BufferLayout::Array(4)),
-        (3, BufferLayout::Array(size(7 * 4))),
+        (2, floats),
+        (3, blobs),
         (4, BufferLayout::Array(size(size_of::<PixelOut>()))),
         (5, BufferLayout::Array(size(size_of::<HitOut>()))),
         (
@@ -1682,9 +1795,15 @@ fn module_layouts(words: &[u32]) -> Vec<(u32, BufferLayout)> {
 /// Fails when a storage buffer of the module has the same kind of layout
 /// as this host's at its binding (array or struct) but another stride or
 /// size: a module built from other sources than this host.
+#[cfg(test)]
 fn check_layout(bytes: &[u8], what: &str) -> Result<(), GpuError> {
+    check_layout_of(bytes, what, false)
+}
+
+/// [`check_layout`] against [`host_layouts_of`]`(scalis)`.
+fn check_layout_of(bytes: &[u8], what: &str, scalis: bool) -> Result<(), GpuError> {
     let words = le_words(bytes);
-    let host = host_layouts();
+    let host = host_layouts_of(scalis);
     for (b, layout) in module_layouts(&words) {
         let Some(&(_, want)) = host.iter().find(|(hb, _)| *hb == b) else {
             continue;
@@ -2129,13 +2248,23 @@ mod tests {
         );
         let shader = include_str!("../../gpu-shader/src/lib.rs");
         let features = include_str!("../../gpu-shader/Cargo.toml");
+        assert!(script.contains("module scalis \"${out%.spv}-scalis.spv\" no-opt"));
         for slot in 0..LEG_MODULES {
-            let (_, _, name) = leg_module(slot);
+            let (_, kind, name) = leg_module(slot);
             assert!(features.contains(&format!("\n{name} = []")), "{name}");
-            assert!(
-                shader.contains(&format!("\"{name}\",\n    {},", leg_entry(slot))),
-                "{name}"
-            );
+            if kind == SceneKind::Scalis {
+                // its own entry point (other bindings), not the macro's
+                assert!(shader.contains(&format!(
+                    "#[cfg(feature = \"{name}\")]\n#[allow(clippy::too_many_arguments)]\n\
+                     #[spirv(compute(threads(8, 8)))]\npub fn {}(",
+                    leg_entry(slot)
+                )));
+            } else {
+                assert!(
+                    shader.contains(&format!("\"{name}\",\n    {},", leg_entry(slot))),
+                    "{name}"
+                );
+            }
         }
     }
 
@@ -2349,19 +2478,22 @@ mod tests {
             );
             return;
         }
-        let mut paths = vec![main.clone()];
-        paths.extend((0..LEG_MODULES).map(|slot| leg_path_beside(&main, slot)));
-        for path in paths.into_iter().filter(|p| p.is_file()) {
+        let mut paths = vec![(main.clone(), false)];
+        paths.extend((0..LEG_MODULES).map(|slot| {
+            let scalis = leg_module(slot).1 == SceneKind::Scalis;
+            (leg_path_beside(&main, slot), scalis)
+        }));
+        for (path, scalis) in paths.into_iter().filter(|(p, _)| p.is_file()) {
             let bytes = std::fs::read(&path).unwrap();
             let found = module_layouts(&le_words(&bytes));
-            for (b, want) in host_layouts() {
+            for (b, want) in host_layouts_of(scalis) {
                 assert!(
                     found.contains(&(b, want)),
                     "{}: binding {b}: {want:?} not among {found:?}",
                     path.display()
                 );
             }
-            check_layout(&bytes, "module").unwrap();
+            check_layout_of(&bytes, "module", scalis).unwrap();
         }
     }
 
@@ -2482,6 +2614,106 @@ mod tests {
                     hits += usize::from(!want.is_empty());
                 }
                 assert!(hits > 0, "{method} {mode:?}: no pixel hits the molecule");
+            }
+        }
+    }
+
+    /// The words of a scene buffer read as the shader reads them: `T`s
+    /// (`#[repr(C)]` structs of 4-byte words).
+    fn read_as<T: Copy>(words: &[u32]) -> Vec<T> {
+        let size = core::mem::size_of::<T>();
+        assert!(size % 4 == 0 && core::mem::align_of::<T>() <= 4);
+        assert_eq!(words.len() * 4 % size, 0);
+        let n = words.len() * 4 / size;
+        #[allow(unsafe_code)]
+        // SAFETY: the callers' `T`s (`ScalisSegment<f32>`, `PrimitiveHit<f32>`)
+        // are `#[repr(C)]` structs of `f32`s and `u32`s (every bit pattern
+        // valid, alignment 4), and `n` of them fit in `words`.
+        let items = unsafe { std::slice::from_raw_parts(words.as_ptr().cast::<T>(), n) };
+        items.to_vec()
+    }
+
+    /// The SCALIS kernel (`render_scalis_leg`) on the host over the
+    /// buffers the host uploads (segments and primitive lists read back
+    /// from their words as the shader reads them: the layout check of
+    /// `to_words`) against the CPU renderer's `render_scene`: the same
+    /// records and roots on every pixel, bit for bit, for both methods and
+    /// modes.
+    #[test]
+    fn scalis_kernels_on_the_host_match_the_cpu() {
+        use boundtrace_gpu_kernel as k;
+        use boundtrace_tracer::Root;
+        use boundtrace_tracer::render::render_scene;
+        for name in ["scalis-tree", "scalis-random"] {
+            let scene = Scene::<f32>::build(name, DEFAULT_SEED).unwrap();
+            let data = GpuScene::from_scene(&scene).unwrap();
+            assert_eq!(data.kind(), SceneKind::Scalis);
+            let camera = Camera::framing(scene.bounds(), [0.3, -0.4, -1.0], 40.0, 1.0).unwrap();
+            let size = 10;
+            for method in [Method::ScalisQuadratic, Method::Interval] {
+                for mode in [Mode::Opaque, Mode::Transparent] {
+                    let settings = RenderSettings::new(size, size, method)
+                        .unwrap()
+                        .with_mode(mode)
+                        .with_max_roots(MAX_GPU_ROOTS)
+                        .unwrap();
+                    let slots = match mode {
+                        Mode::Opaque => 1,
+                        Mode::Transparent => MAX_GPU_ROOTS,
+                    };
+                    let c = data.constants(&camera, &settings, slots);
+                    let [offsets, lists, segments] = data.buffers(&camera, &settings);
+                    assert_eq!(offsets.len(), (size * size + 1) as usize);
+                    let lists: Vec<PrimitiveHit<f32>> = read_as(&lists);
+                    let segments: Vec<ScalisSegment<f32>> = read_as(&segments);
+                    assert_eq!(segments, data.segments);
+                    let cpu = render_scene(&scene, &camera, &settings).unwrap();
+                    let n = (size * size) as usize;
+                    let none = Root {
+                        t: 0.0,
+                        side: Side::Touch,
+                    };
+                    let mut roots = vec![none; n * slots as usize];
+                    let mut hits = vec![HitOut::default(); n * slots as usize];
+                    let mut hit_pixels = 0;
+                    for i in 0..n {
+                        let (x, y) = (i as u32 % size, i as u32 / size);
+                        let base = i * slots as usize;
+                        let (mut leg, mut p) = (PixelLeg::default(), PixelOut::default());
+                        k::render_scalis_leg(
+                            &c, &offsets, &lists, &segments, x, y, &mut roots, &mut hits, base,
+                            &mut leg, &mut p,
+                        );
+                        assert_eq!(leg.phase, PHASE_DONE, "{name} {method} {mode:?} ({x}, {y})");
+                        let a = cpu.pixel(x, y).unwrap();
+                        let s = &a.trace.stats;
+                        assert_eq!(
+                            (p.status, p.roots, p.steps, p.field_evals, p.bound_evals),
+                            (
+                                a.trace.status as u32,
+                                a.trace.roots,
+                                s.steps,
+                                s.field_evals,
+                                s.bound_evals
+                            ),
+                            "{name} {method} {mode:?} ({x}, {y})"
+                        );
+                        let want: Vec<(u32, u32, [u32; 3])> = cpu
+                            .hits(x, y)
+                            .iter()
+                            .map(|h| (h.t.to_bits(), h.side as u32, h.normal.map(f32::to_bits)))
+                            .collect();
+                        let got: Vec<(u32, u32, [u32; 3])> = (0..p.roots as usize)
+                            .map(|r| {
+                                let h = hits[base + r];
+                                (h.t.to_bits(), h.side, h.normal.map(f32::to_bits))
+                            })
+                            .collect();
+                        assert_eq!(got, want, "{name} {method} {mode:?} ({x}, {y})");
+                        hit_pixels += usize::from(!want.is_empty());
+                    }
+                    assert!(hit_pixels > 0, "{name} {method} {mode:?}: no pixel hits");
+                }
             }
         }
     }

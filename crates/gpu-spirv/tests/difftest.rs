@@ -31,7 +31,7 @@
 
 use boundtrace_gpu::{GpuError, GpuScene, GpuTracer, MAX_GPU_ROOTS};
 use boundtrace_tracer::camera::Camera;
-use boundtrace_tracer::render::{Frame, RenderSettings, render_serial};
+use boundtrace_tracer::render::{Frame, RenderSettings, render_scene, render_serial};
 use boundtrace_tracer::scenes::{DEFAULT_SEED, Scene, SceneField};
 use boundtrace_tracer::tile_programs::{TilePrograms, render_tile_programs};
 use boundtrace_tracer::{Method, Mode};
@@ -526,6 +526,106 @@ fn quadratic_mixed_matches_the_cpu_in_both_modes() {
     run(&[Method::QuadraticMixed], true);
 }
 
+/// The SCALIS skeletons and the size of their difftest frames.
+const SCALIS_SCENES: [(&str, u32); 3] = [
+    ("scalis-tree", 16),
+    ("scalis-random", 16),
+    ("scalis-foam", 16),
+];
+
+/// `scalis-quadratic` and the per-primitive `interval` bisection on the
+/// SCALIS skeletons (the `scalis` module's `trace_scalis`, over the frame's
+/// primitive lists built on the host), both modes, every pixel against
+/// the CPU renderer's `render_scene` (which builds the same lists per ray).
+/// Ignored: lavapipe needed more than 19 GB to compile the pipeline
+/// (BENCHMARKS.md "GPU", session 29); run it with
+/// `BOUNDTRACE_SCALIS_MODULE=1 scripts/build-spirv.sh` and
+/// `cargo test -p boundtrace-gpu --test difftest -- --ignored scalis`.
+/// The kernel itself runs on the host in CI, bit for bit the CPU's
+/// (`scalis_kernels_on_the_host_match_the_cpu`).
+#[test]
+#[ignore = "lavapipe needs > 19 GB for the scalis pipeline; needs BOUNDTRACE_SCALIS_MODULE=1 scripts/build-spirv.sh"]
+fn scalis_methods_match_the_cpu_in_both_modes() {
+    let Some(gpu) = gpu() else { return };
+    let lavapipe = gpu.adapter_info().device_type == wgpu::DeviceType::Cpu;
+    let mut failures = Vec::new();
+    for (name, size) in SCALIS_SCENES {
+        let scene = Scene::<f32>::build(name, DEFAULT_SEED).unwrap();
+        let data = GpuScene::from_scene(&scene).unwrap();
+        let camera = Camera::framing(scene.bounds(), [0.3, -0.4, -1.0], 40.0, 1.0).unwrap();
+        // Like for like: the CPU's per-ray lists hold at most
+        // SCALIS_LIST_CAPACITY hits (beyond, it traces `segment`), the GPU's
+        // are complete.
+        let SceneField::Scalis(w) = scene.field() else {
+            panic!("{name} is not a SCALIS scene")
+        };
+        let longest = longest_list(w.field().segments(), scene.bounds(), &camera, size);
+        assert!(
+            longest <= boundtrace_tracer::stats::SCALIS_LIST_CAPACITY,
+            "{name}: a ray crosses {longest} supports"
+        );
+        for method in [Method::ScalisQuadratic, Method::Interval] {
+            for mode in [Mode::Opaque, Mode::Transparent] {
+                let settings = RenderSettings::new(size, size, method)
+                    .unwrap()
+                    .with_mode(mode)
+                    .with_max_roots(MAX_GPU_ROOTS)
+                    .unwrap();
+                let t = std::time::Instant::now();
+                let cpu = render_scene(&scene, &camera, &settings).unwrap();
+                let cpu_s = t.elapsed().as_secs_f64();
+                let t = std::time::Instant::now();
+                let rendered = gpu.render_in_legs(&data, &camera, &settings, 0);
+                let gpu_s = t.elapsed().as_secs_f64();
+                let (g, dispatches) = match rendered {
+                    Ok(r) => r,
+                    Err(e) => {
+                        eprintln!("FAIL {name:20} {method:20} {mode:?}: {e}");
+                        failures.push(format!("{name} {method} {mode:?}: {e}"));
+                        continue;
+                    }
+                };
+                match compare(&cpu, &g) {
+                    Ok(s) => eprintln!(
+                        "ok   {name:20} {method:20} {mode:?}: {s}; {dispatches} dispatches; \
+                         CPU {cpu_s:.2} s, GPU {gpu_s:.2} s (lavapipe: {lavapipe}); \
+                         longest list {longest}"
+                    ),
+                    Err(s) => {
+                        eprintln!("FAIL {name:20} {method:20} {mode:?}: {s}");
+                        failures.push(format!("{name} {method} {mode:?}: {s}"));
+                    }
+                }
+            }
+        }
+    }
+    assert_none_failed(&failures);
+}
+
+/// The most supports a ray of a `size` × `size` frame through `camera`
+/// crosses in the box `bounds`.
+fn longest_list(
+    segments: &[boundtrace_fields::scalis::ScalisSegment<f32>],
+    bounds: [[f32; 3]; 2],
+    camera: &Camera<f32>,
+    size: u32,
+) -> usize {
+    let mut rays = Vec::new();
+    for y in 0..size {
+        for x in 0..size {
+            let ray = camera.ray(x, y, size, size);
+            if let Some(span) = boundtrace_tracer::camera::ray_box_span(&ray, &bounds) {
+                rays.push((ray, span));
+            }
+        }
+    }
+    let lists = boundtrace_tracer::scalis::PrimitiveLists::build(segments, &rays);
+    (0..lists.len())
+        .map(|i| lists.hits(i).len())
+        .max()
+        .unwrap_or(0)
+}
+
 #[test]
 fn methods_without_an_entry_point_are_refused_clearly() {
     let Some(gpu) = gpu() else { return };
@@ -537,7 +637,7 @@ fn methods_without_an_entry_point_are_refused_clearly() {
     let data = GpuScene::from_scene(&scene).unwrap();
     let camera = Camera::framing(scene.bounds(), [0.0, 0.0, -1.0], 40.0, 1.0).unwrap();
     // What the module set lists is what it renders: under CI every leg
-    // module but the mixed ones is built (scripts/build-spirv.sh).
+    // module but the mixed and SCALIS ones is built (scripts/build-spirv.sh).
     let listed = gpu.methods();
     if std::env::var_os("CI").is_some() {
         assert_eq!(

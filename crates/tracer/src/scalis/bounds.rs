@@ -265,47 +265,73 @@ pub fn log_concave_range<T: Real>(
     a: T,
     b: T,
 ) -> Option<Interval<T>> {
+    let r = log_concave_range_or_empty(seg, ray, a, b);
+    (!r.is_empty()).then_some(r)
+}
+
+/// [`log_concave_range`] with [`Interval::EMPTY`] for `None` (the range is
+/// never empty where it applies): the tracer's per-ray form, without an
+/// `Option` of an interval (rust-gpu).
+pub fn log_concave_range_or_empty<T: Real>(
+    seg: &ScalisSegment<T>,
+    ray: &Ray<T>,
+    a: T,
+    b: T,
+) -> Interval<T> {
     if !is_log_concave(seg) || !(a <= b) {
-        return None;
+        return Interval::EMPTY;
     }
-    let (fa, da) = value_and_slope(seg, ray, a);
-    let (fb, db) = value_and_slope(seg, ray, b);
+    // both ends from one call (one inlined copy on a GPU)
+    let ts = [a, b];
+    let mut ends = [(Interval::EMPTY, Interval::EMPTY); 2];
+    let mut k = 0;
+    while k < 2 {
+        ends[k] = value_and_slope(seg, ray, ts[k]);
+        k += 1;
+    }
+    let [(fa, da), (fb, db)] = ends;
     if fa.is_empty() || fb.is_empty() || !fa.hi().is_finite() || !fb.hi().is_finite() {
-        return None;
+        return Interval::EMPTY;
     }
     let lo = fa.lo().min(fb.lo()).max(T::ZERO);
     let ia = Interval::point(a);
     let ib = Interval::point(b);
-    // ln f(t) ≤ ln f(a) + s_a·(t − a) for t ≥ a: the largest slope
-    let sa = (fa.lo() > T::ZERO && !da.is_empty())
-        .then(|| (da / fa).hi())
-        .filter(|s| !s.is_nan());
+    // ln f(t) ≤ ln f(a) + s_a·(t − a) for t ≥ a: the largest slope (NaN:
+    // none)
+    let sa = if fa.lo() > T::ZERO && !da.is_empty() {
+        (da / fa).hi()
+    } else {
+        T::nan()
+    };
     // ln f(t) ≤ ln f(b) + s_b·(t − b) for t ≤ b: the smallest slope
-    let sb = (fb.lo() > T::ZERO && !db.is_empty())
-        .then(|| (db / fb).lo())
-        .filter(|s| !s.is_nan());
+    let sb = if fb.lo() > T::ZERO && !db.is_empty() {
+        (db / fb).lo()
+    } else {
+        T::nan()
+    };
     let tangent_a = |t: T, s: T| {
         (Interval::point(fa.hi()) * (Interval::point(s) * (Interval::point(t) - ia)).exp()).hi()
     };
     let tangent_b = |t: T, s: T| {
         (Interval::point(fb.hi()) * (Interval::point(s) * (Interval::point(t) - ib)).exp()).hi()
     };
-    let sup_a = sa.map_or(T::INFINITY, |s| {
-        if s <= T::ZERO {
-            fa.hi()
-        } else {
-            tangent_a(b, s)
-        }
-    });
-    let sup_b = sb.map_or(T::INFINITY, |s| {
-        if s >= T::ZERO {
-            fb.hi()
-        } else {
-            tangent_b(a, s)
-        }
-    });
+    let sup_a = if sa.is_nan() {
+        T::INFINITY
+    } else if sa <= T::ZERO {
+        fa.hi()
+    } else {
+        tangent_a(b, sa)
+    };
+    let sup_b = if sb.is_nan() {
+        T::INFINITY
+    } else if sb >= T::ZERO {
+        fb.hi()
+    } else {
+        tangent_b(a, sb)
+    };
     let mut hi = sup_a.min(sup_b);
-    if let (Some(al), Some(be)) = (sa, sb) {
+    if !sa.is_nan() && !sb.is_nan() {
+        let (al, be) = (sa, sb);
         if al > T::ZERO && be < T::ZERO {
             // approximately where the two tangents cross (any point is sound)
             let t = (fb.hi().ln() - fa.hi().ln() + al * a - be * b) / (al - be);
@@ -317,7 +343,11 @@ pub fn log_concave_range<T: Real>(
     }
     // the segment's values at the ends bound it from above too
     let hi = hi.max(fa.hi()).max(fb.hi());
-    (lo <= hi && !hi.is_nan()).then(|| Interval::new(lo, hi))
+    if lo <= hi && !hi.is_nan() {
+        Interval::new(lo, hi)
+    } else {
+        Interval::EMPTY
+    }
 }
 
 /// The quadratic Taylor model of the density of `seg` on the ray interval
@@ -362,8 +392,24 @@ pub fn taylor_model_at<T: Real>(
     b: T,
     pieces: u32,
 ) -> Option<[Interval<T>; 3]> {
-    if !(a <= c && c <= b) || pieces == 0 {
-        return None;
+    let m = taylor_model_at_or_empty(seg, ray, c, a, b, pieces);
+    (!m[0].is_empty()).then_some(m)
+}
+
+/// [`taylor_model_at`] with three [`Interval::EMPTY`]s for `None` (a model
+/// has no empty part): the tracer's per-ray form, without an `Option` of
+/// intervals (rust-gpu).
+pub fn taylor_model_at_or_empty<T: Real>(
+    seg: &ScalisSegment<T>,
+    ray: &Ray<T>,
+    c: T,
+    a: T,
+    b: T,
+    pieces: u32,
+) -> [Interval<T>; 3] {
+    let none = [Interval::EMPTY; 3];
+    if !(a <= c && c <= b) || pieces == 0 || !seg.has_second_derivative() {
+        return none;
     }
     let mut d2 = Interval::EMPTY;
     let mut lo = a;
@@ -375,15 +421,15 @@ pub fn taylor_model_at<T: Real>(
             a + (b - a) * T::from_f64(f64::from(k) / f64::from(pieces))
         };
         let hi = hi.max(lo);
-        d2 = d2.hull(seg.second_derivative_generic(ray.at::<Interval<T>>(lo, hi), ray.dir)?);
+        d2 = d2.hull(seg.second_derivative_closed_form(ray.at::<Interval<T>>(lo, hi), ray.dir));
         lo = hi;
         k += 1;
     }
     let (f0, d1) = value_and_slope(seg, ray, c);
     if f0.is_empty() || d1.is_empty() || d2.is_empty() {
-        return None;
+        return none;
     }
-    Some([f0, d1, d2])
+    [f0, d1, d2]
 }
 
 /// The range on the ray interval `[a, b]` of a (summed) quadratic Taylor

@@ -150,9 +150,8 @@ pub fn trace_scalis<T: Real, S: AsRef<[ScalisSegment<T>]>>(
         return unsupported;
     }
     let segments = skeleton.segments();
-    let split = match method {
-        Method::ScalisQuadratic => Split::Oracle,
-        Method::Interval => Split::Bisection,
+    match method {
+        Method::ScalisQuadratic | Method::Interval => {}
         Method::Sphere => {
             // validated above but for the segments
             if check_segments(segments).is_err() {
@@ -170,38 +169,128 @@ pub fn trace_scalis<T: Real, S: AsRef<[ScalisSegment<T>]>>(
             );
         }
         _ => return trace(skeleton, ray, span, method, mode, params, roots),
+    }
+    let len = roots.len();
+    trace_scalis_in(
+        segments,
+        skeleton.iso(),
+        hits,
+        [0, hits.len()],
+        ray,
+        span,
+        method,
+        mode,
+        params,
+        roots,
+        [0, len],
+    )
+}
+
+/// [`trace_scalis`]'s `scalis-quadratic` and `interval` (the pre-segmented
+/// processing, module docs) over flat data: the GPU shader's form. The
+/// skeleton is `segments` with the iso-value `iso` (what
+/// [`ScalisSkeleton::new`] accepts; a segment with an infinite support
+/// gives [`Status::Unsupported`]); the ray's complete hit list is
+/// `lists[list[0]..list[0] + list[1]]` (a window of the hit lists of a
+/// whole frame, [`PrimitiveLists`] on the host); roots are written to the
+/// window `roots[window[0]..window[0] + window[1]]`, as in
+/// [`trace_in`](crate::trace_in). Indices, loops and no sub-slices, no
+/// `Option` or `Result` of a trace, no closure: what rust-gpu compiles.
+///
+/// [`Status::Unsupported`] for another method, invalid parameters or span,
+/// an empty or out-of-range root window or hit list.
+#[allow(clippy::too_many_arguments)]
+pub fn trace_scalis_in<T: Real>(
+    segments: &[ScalisSegment<T>],
+    iso: T,
+    lists: &[PrimitiveHit<T>],
+    list: [usize; 2],
+    ray: &Ray<T>,
+    span: [T; 2],
+    method: Method,
+    mode: Mode,
+    params: &Params<T>,
+    roots: &mut [Root<T>],
+    window: [usize; 2],
+) -> Trace<T> {
+    let unsupported = Trace {
+        roots: 0,
+        status: Status::Unsupported,
+        t_reached: span[0],
+        stats: RayStats::default(),
     };
-    if check_segments(segments).is_err() {
+    let split = if method == Method::ScalisQuadratic {
+        Split::Oracle
+    } else if method == Method::Interval {
+        Split::Bisection
+    } else {
+        return unsupported;
+    };
+    let [base, len] = window;
+    let (lo, n) = (list[0], list[1]);
+    if !params.is_valid()
+        || !(span[0] <= span[1])
+        || len == 0
+        || base > roots.len()
+        || len > roots.len() - base
+        || lo > lists.len()
+        || n > lists.len() - lo
+        || !finite_supports(segments)
+    {
         return unsupported;
     }
     let ctx = Ctx {
         segments,
-        hits,
-        iso: skeleton.iso(),
+        hits: lists,
+        iso,
         ray,
     };
-    let len = roots.len();
     let slots = crate::march::RootSlots {
         buf: roots,
-        base: 0,
+        base,
         len,
     };
     let mut w = Walk::new(slots, mode, params.eps);
-    let mut out: Option<Trace<T>> = None;
-    for_each_region(hits, |a, b, i, j| {
-        let (a, b) = (a.max(span[0]), b.min(span[1]));
-        if !(a <= b) {
-            return true;
+    // the merged covered regions (`for_each_region`)
+    let end = lo + n;
+    let mut i = lo;
+    while i < end {
+        let (start, mut stop) = (lists[i].entry, lists[i].exit);
+        let mut j = i + 1;
+        while j < end && lists[j].entry <= stop {
+            stop = stop.max(lists[j].exit);
+            j += 1;
         }
-        match process_region(&ctx, [a, b], i..j, params, split, &mut w) {
-            Ok(()) => true,
-            Err(tr) => {
-                out = Some(tr);
-                false
+        let (a, b) = (start.max(span[0]), stop.min(span[1]));
+        if a <= b {
+            let flow = process_region(
+                &ctx,
+                [a, b],
+                HitRange { start: i, end: j },
+                params,
+                split,
+                &mut w,
+            );
+            if flow.stop {
+                return flow.trace;
             }
         }
-    });
-    out.unwrap_or_else(|| w.done(Status::Finished, span[1]))
+        i = j;
+    }
+    w.done(Status::Finished, span[1])
+}
+
+/// Whether every segment has a finite (compact) support: the lists'
+/// precondition ([`check_segments`] without an error value).
+fn finite_supports<T: Real>(segments: &[ScalisSegment<T>]) -> bool {
+    let mut i = 0;
+    while i < segments.len() {
+        if !segments[i].has_compact_support() {
+            return false;
+        }
+        i += 1;
+    }
+    true
 }
 
 /// Where the Lipschitz constant of SCALIS sphere tracing
@@ -299,6 +388,40 @@ enum Split {
     Bisection,
 }
 
+/// A range `start..end` of [`Ctx::hits`] (an index range rather than a
+/// sub-slice: rust-gpu cannot sub-slice a storage buffer).
+#[derive(Clone, Copy)]
+struct HitRange {
+    start: usize,
+    end: usize,
+}
+
+/// Whether [`process_region`] goes on, or stops with `trace` (a struct
+/// rather than `Result<(), Trace>`: rust-gpu 0.11 cannot move a `Trace`
+/// out of an enum).
+#[derive(Clone, Copy)]
+struct Flow<T> {
+    stop: bool,
+    trace: Trace<T>,
+}
+
+impl<T: Real> Flow<T> {
+    fn go() -> Self {
+        Self {
+            stop: false,
+            trace: Trace {
+                roots: 0,
+                status: Status::Finished,
+                t_reached: T::ZERO,
+                stats: RayStats::default(),
+            },
+        }
+    }
+    fn stop(trace: Trace<T>) -> Self {
+        Self { stop: true, trace }
+    }
+}
+
 /// One ray through the skeleton, with its hits.
 struct Ctx<'a, T> {
     segments: &'a [ScalisSegment<T>],
@@ -307,13 +430,26 @@ struct Ctx<'a, T> {
     ray: &'a Ray<T>,
 }
 
-/// A point of the ray with the field's enclosure and, once computed, the
-/// Hermite data `(G, G')` of the normalized field.
+/// A point of the ray with the field's enclosure and, once computed
+/// (`has_herm`), the Hermite data `herm = (G, G')` of the normalized field.
 #[derive(Clone, Copy)]
 struct Pt<T> {
     t: T,
     f: Interval<T>,
-    herm: Option<(T, T)>,
+    has_herm: bool,
+    herm: [T; 2],
+}
+
+impl<T: Real> Pt<T> {
+    /// `t` with the enclosure `f`, no Hermite data yet.
+    fn new(t: T, f: Interval<T>) -> Self {
+        Self {
+            t,
+            f,
+            has_herm: false,
+            herm: [T::ZERO; 2],
+        }
+    }
 }
 
 /// `true` unless the field is proven positive (the bisection's convention).
@@ -329,37 +465,40 @@ impl<T: Real> Ctx<'_, T> {
 
     /// A sound enclosure of `iso − f` at `t`, from the hits whose
     /// `[entry, exit]` contains `t` (the others are exactly `0` there).
-    fn value(&self, hits: &[PrimitiveHit<T>], t: T) -> Interval<T> {
+    fn value(&self, hits: HitRange, t: T) -> Interval<T> {
         Interval::point(self.iso) - self.density_at::<Interval<T>>(hits, t)
     }
 
     /// The density `f(o + t·d)` in `N`, summed over the hits whose
     /// `[entry, exit]` contains `t` (the others are exactly `0` there).
-    fn density_at<N: FieldNum<T>>(&self, hits: &[PrimitiveHit<T>], t: T) -> N {
+    fn density_at<N: FieldNum<T>>(&self, hits: HitRange, t: T) -> N {
         let p = self.ray.at::<N>(t, t);
         let mut acc = N::constant(T::ZERO);
-        for h in hits {
+        let mut k = hits.start;
+        while k < hits.end {
+            let h = self.hits[k];
+            k += 1;
             if h.entry > t {
                 break;
             }
             if h.exit >= t {
-                acc = acc + self.seg(h).density(p);
+                acc = acc + self.seg(&h).density(p);
             }
         }
         acc
     }
 
     /// `(G, G')` of the normalized field `g(f(o + t·d)) − 1` at `t`.
-    fn hermite(&self, hits: &[PrimitiveHit<T>], t: T) -> (T, T) {
+    fn hermite(&self, hits: HitRange, t: T) -> [T; 2] {
         let acc = self.density_at::<Jet<T>>(hits, t);
-        let s = self.seg(&hits[0]);
+        let s = self.seg(&self.hits[hits.start]);
         if !(acc.v > T::ZERO) {
             // outside every support: g(0) − 1, flat
             let g0 = s.g(Jet::constant(T::ZERO));
-            return (g0.v - T::ONE, T::ZERO);
+            return [g0.v - T::ONE, T::ZERO];
         }
         let g = s.g(acc);
-        (g.v - T::ONE, g.d1)
+        [g.v - T::ONE, g.d1]
     }
 
     /// A sound enclosure of `iso − f` on `[a, b]`: the sum over the hits
@@ -372,14 +511,17 @@ impl<T: Real> Ctx<'_, T> {
     /// [`tight_density`](Self::tight_density), follows in
     /// [`root_free`](Self::root_free)). `stats` counts one bound
     /// evaluation per stage.
-    fn range(&self, hits: &[PrimitiveHit<T>], a: T, b: T, stats: &mut RayStats) -> Interval<T> {
+    fn range(&self, hits: HitRange, a: T, b: T, stats: &mut RayStats) -> Interval<T> {
         let zero = Interval::point(T::ZERO);
         let mut r = Interval::ENTIRE;
         let mut stage = 0;
         while stage < 3 {
             stats.bound_evals += 1;
             let mut acc = zero;
-            for h in hits {
+            let mut k = hits.start;
+            while k < hits.end {
+                let h = self.hits[k];
+                k += 1;
                 if h.entry > b {
                     break;
                 }
@@ -387,7 +529,7 @@ impl<T: Real> Ctx<'_, T> {
                     continue;
                 }
                 let (u, v) = (a.max(h.entry), b.min(h.exit));
-                let s = self.seg(h);
+                let s = self.seg(&h);
                 let cells = if stage == 0 { CELLS } else { FINE_CELLS };
                 let mut d = bounds::density_bounds(s, self.ray, u, v, cells);
                 if stage == 2 {
@@ -419,13 +561,7 @@ impl<T: Real> Ctx<'_, T> {
     /// ([`bounds::taylor_model_slope`]) that excludes `0` (a monotone
     /// field). The tight stage runs with one piece per primitive, then,
     /// when [`FINE_GAIN`] says it may decide, with [`FINE_PIECES`].
-    fn root_free(
-        &self,
-        hits: &[PrimitiveHit<T>],
-        a: &Pt<T>,
-        b: &Pt<T>,
-        stats: &mut RayStats,
-    ) -> bool {
+    fn root_free(&self, hits: HitRange, a: &Pt<T>, b: &Pt<T>, stats: &mut RayStats) -> bool {
         let mut r = self.range(hits, a.t, b.t, stats);
         if !r.contains(T::ZERO) {
             return true;
@@ -439,7 +575,7 @@ impl<T: Real> Ctx<'_, T> {
         let mut pieces = 1;
         loop {
             stats.bound_evals += 1;
-            let (d, model) = self.tight_density(hits, a, b, c, pieces);
+            let (d, model, whole) = self.tight_density(hits, a, b, c, pieces);
             let x = r.intersection(Interval::point(self.iso) - d);
             if !x.is_empty() {
                 r = x;
@@ -447,9 +583,11 @@ impl<T: Real> Ctx<'_, T> {
             if !r.contains(T::ZERO) {
                 return true;
             }
-            let slope = model.map(|m| bounds::taylor_model_slope(m, c, a, b));
-            if same && slope.is_some_and(|s| !s.is_empty() && !s.contains(T::ZERO)) {
-                return true;
+            if same && whole {
+                let slope = bounds::taylor_model_slope(model, c, a, b);
+                if !slope.is_empty() && !slope.contains(T::ZERO) {
+                    return true;
+                }
             }
             if pieces >= FINE_PIECES {
                 return false;
@@ -457,9 +595,10 @@ impl<T: Real> Ctx<'_, T> {
             // Would a second derivative FINE_GAIN times narrower, at the
             // point of this one nearest 0, decide? (Only a filter: what is
             // proven comes from the second pass itself.)
-            let Some([f0, d1, d2]) = model else {
+            if !whole {
                 return false;
-            };
+            }
+            let [f0, d1, d2] = model;
             let near = if d2.lo() > T::ZERO {
                 d2.lo()
             } else if d2.hi() < T::ZERO {
@@ -498,61 +637,69 @@ impl<T: Real> Ctx<'_, T> {
     ///   primitive without one enters as its constant range), which keeps
     ///   the cancellations between primitives.
     ///
-    /// Also returns that summed model when every primitive has one (for
-    /// the derivative enclosure of [`root_free`](Self::root_free)).
+    /// Also returns that summed model and whether every primitive has one
+    /// (then the model serves the derivative enclosure of
+    /// [`root_free`](Self::root_free)).
     fn tight_density(
         &self,
-        hits: &[PrimitiveHit<T>],
+        hits: HitRange,
         a: T,
         b: T,
         c: T,
         pieces: u32,
-    ) -> (Interval<T>, Option<[Interval<T>; 3]>) {
+    ) -> (Interval<T>, [Interval<T>; 3], bool) {
         let zero = Interval::point(T::ZERO);
         let mut sum = zero;
         let mut model = [zero; 3];
         let mut whole = true;
-        for h in hits {
+        let mut k = hits.start;
+        while k < hits.end {
+            let h = self.hits[k];
+            k += 1;
             if h.entry > b {
                 break;
             }
             if h.exit < a {
                 continue;
             }
-            let s = self.seg(h);
+            let s = self.seg(&h);
             // both bounds hold on the whole line (the closed form is exactly
-            // 0 outside the support), so [a, b] is used as is
-            let lc = bounds::log_concave_range(s, self.ray, a, b);
-            let tm = bounds::taylor_model_at(s, self.ray, c, a, b, pieces);
-            let tr = tm.map(|m| bounds::taylor_model_range_at(m, c, a, b));
-            let mut per = match (lc, tr) {
-                (Some(x), Some(y)) => {
-                    let c = x.intersection(y);
-                    if c.is_empty() { x } else { c }
-                }
-                (Some(x), None) | (None, Some(x)) => x,
-                (None, None) => {
-                    let (u, v) = (a.max(h.entry), b.min(h.exit));
-                    let d = bounds::density_bounds(s, self.ray, u, v, FINE_CELLS);
-                    if u > a || v < b { d.hull(zero) } else { d }
-                }
+            // 0 outside the support), so [a, b] is used as is; an empty
+            // interval where a bound does not apply
+            let lc = bounds::log_concave_range_or_empty(s, self.ray, a, b);
+            let tm = bounds::taylor_model_at_or_empty(s, self.ray, c, a, b, pieces);
+            let has_tm = !tm[0].is_empty();
+            let tr = if has_tm {
+                bounds::taylor_model_range_at(tm, c, a, b)
+            } else {
+                Interval::EMPTY
+            };
+            let has_lc = !lc.is_empty();
+            let mut per = if has_lc && has_tm {
+                let c = lc.intersection(tr);
+                if c.is_empty() { lc } else { c }
+            } else if has_lc {
+                lc
+            } else if has_tm {
+                tr
+            } else {
+                let (u, v) = (a.max(h.entry), b.min(h.exit));
+                let d = bounds::density_bounds(s, self.ray, u, v, FINE_CELLS);
+                if u > a || v < b { d.hull(zero) } else { d }
             };
             per = Interval::new(per.lo().max(T::ZERO), per.hi());
             sum = sum + per;
-            match tm {
-                Some(m) => {
-                    model[0] = model[0] + m[0];
-                    model[1] = model[1] + m[1];
-                    model[2] = model[2] + m[2];
-                }
-                None => {
-                    model[0] = model[0] + per;
-                    whole = false;
-                }
+            if has_tm {
+                model[0] = model[0] + tm[0];
+                model[1] = model[1] + tm[1];
+                model[2] = model[2] + tm[2];
+            } else {
+                model[0] = model[0] + per;
+                whole = false;
             }
         }
         let r = sum.intersection(bounds::taylor_model_range_at(model, c, a, b));
-        (if r.is_empty() { sum } else { r }, whole.then_some(model))
+        (if r.is_empty() { sum } else { r }, model, whole)
     }
 }
 
@@ -624,95 +771,154 @@ pub(crate) fn oracle<T: Real>(a: T, b: T, ga: T, da: T, gb: T, db: T, weight: T)
 }
 
 /// The pre-segmented processing of one covered region `[r0, r1]` whose hits
-/// are `hits[range]` (module docs). Roots go to `w`; `Err` carries the
-/// final record when tracing stops.
+/// are `ctx.hits[hits.start..hits.end]` (module docs). Roots go to `w`; a
+/// stopping [`Flow`] carries the final record when tracing stops.
 fn process_region<T: Real>(
     ctx: &Ctx<'_, T>,
     [r0, r1]: [T; 2],
-    range: core::ops::Range<usize>,
+    hits: HitRange,
     params: &Params<T>,
     split: Split,
     w: &mut Walk<'_, T>,
-) -> Result<(), Trace<T>> {
-    let hits = &ctx.hits[range];
-    if hits.is_empty() {
-        return Ok(());
+) -> Flow<T> {
+    if hits.start >= hits.end {
+        return Flow::go();
     }
     let eps = params.eps;
     let fine = eps / T::from_f64(f64::from(1u32 << TOUCH_DEPTH));
     let delta = eps * T::from_f64(0.45);
     let refine = eps * T::from_f64(REFINE_EPS);
-    let point = |t: T, w: &mut Walk<'_, T>| {
-        w.stats.field_evals += 1;
-        Pt {
-            t,
-            f: ctx.value(hits, t),
-            herm: None,
-        }
-    };
-    let mut stack = [(
-        Pt {
-            t: r0,
-            f: Interval::point(T::ZERO),
-            herm: None,
-        },
-        Pt {
-            t: r0,
-            f: Interval::point(T::ZERO),
-            herm: None,
-        },
-    ); STACK_CAPACITY];
+    let origin = Pt::new(r0, Interval::point(T::ZERO));
+    let mut stack = [(origin, origin); STACK_CAPACITY];
     let mut sp = 0usize;
-    let mut cur = point(r0, w);
+    // The cursor: where the next pre-segmented interval starts (its point
+    // is evaluated with the first interval's end).
+    let mut cur = origin;
+    let mut cur_pending = true;
+    // The points an iteration asks for are evaluated at the top of the
+    // next one, all at one call site (a GPU driver inlines every call):
+    // `kind` says what they are for, `req[..nreq]` where they are.
+    let mut kind = Pending::Start;
+    let mut req = [r0; 2];
+    let mut nreq = 0usize;
+    // `Pending::Split`: the interval `[split_a, split_b]` cut at the
+    // requested points; `Pending::TouchEnd`: which of the stack's top
+    // interval start and the cursor move to the requested point.
+    let (mut split_a, mut split_b) = (origin, origin);
+    let (mut fix_top, mut fix_cur) = (false, false);
     loop {
+        let mut vals = [origin; 2];
+        let mut q = 0;
+        while q < nreq {
+            w.stats.field_evals += 1;
+            vals[q] = Pt::new(req[q], ctx.value(hits, req[q]));
+            q += 1;
+        }
+        match kind {
+            Pending::Start => {
+                if nreq > 0 {
+                    let mut q = 0;
+                    if cur_pending {
+                        cur = vals[0];
+                        cur_pending = false;
+                        q = 1;
+                    }
+                    if q < nreq {
+                        let nb = vals[q];
+                        stack[0] = (cur, nb);
+                        sp = 1;
+                        cur = nb;
+                    }
+                }
+            }
+            Pending::Split => {
+                let mut right = split_b;
+                let mut k = nreq;
+                while k > 0 {
+                    k -= 1;
+                    let p = vals[k];
+                    stack[sp] = (p, right);
+                    sp += 1;
+                    right = p;
+                }
+                stack[sp] = (split_a, right);
+                sp += 1;
+            }
+            Pending::TouchEnd => {
+                let mut q = 0;
+                if fix_top {
+                    stack[sp - 1].0 = vals[q];
+                    q += 1;
+                }
+                if fix_cur {
+                    cur = vals[q];
+                }
+            }
+        }
+        kind = Pending::Start;
+        nreq = 0;
         if sp == 0 {
+            if cur_pending {
+                req[0] = cur.t;
+                nreq = 1;
+                continue;
+            }
             if !(cur.t < r1) {
-                return Ok(());
+                return Flow::go();
             }
             // the next argmin after the cursor (pre-segmentation, §1.3)
             let mut next = r1;
-            for h in hits {
-                if h.argmin > cur.t + eps && h.argmin < next - eps {
-                    next = h.argmin;
+            let mut k = hits.start;
+            while k < hits.end {
+                let argmin = ctx.hits[k].argmin;
+                k += 1;
+                if argmin > cur.t + eps && argmin < next - eps {
+                    next = argmin;
                 }
             }
-            let nb = point(next, w);
-            stack[0] = (cur, nb);
-            sp = 1;
-            cur = nb;
+            req[0] = next;
+            nreq = 1;
+            continue;
         }
         sp -= 1;
         let (mut a, mut b) = stack[sp];
         if w.stats.steps >= params.max_steps {
-            return Err(w.done(Status::MaxSteps, a.t));
+            return Flow::stop(w.done(Status::MaxSteps, a.t));
         }
         w.stats.steps += 1;
         let len = b.t - a.t;
         let mid = a.t + len * T::HALF;
         let splittable = mid > a.t && mid < b.t && sp + 3 <= STACK_CAPACITY;
-        if !(len > eps) || !splittable {
+        let leaf = !(len > eps) || !splittable;
+        // a leaf with a sign change is a crossing without further proof
+        // (a flag and a side, not an `Option`: no niche-encoded value on a
+        // GPU)
+        let (ia, ib) = (inside(a.f), inside(b.f));
+        let crossing = ia != ib;
+        let crossing_side = if ib { Side::Entering } else { Side::Leaving };
+        let crossing_leaf = leaf && crossing;
+        if !crossing_leaf && ctx.root_free(hits, &a, &b, &mut w.stats) {
+            continue;
+        }
+        if leaf {
             // A leaf: a crossing, or (after halving below eps) a touch.
-            let side = match (inside(a.f), inside(b.f)) {
-                (false, true) => Side::Entering,
-                (true, false) => Side::Leaving,
-                _ => {
-                    if ctx.root_free(hits, &a, &b, &mut w.stats) {
-                        continue;
-                    }
-                    if splittable && len > fine {
-                        let m = point(mid, w);
-                        stack[sp] = (m, b);
-                        stack[sp + 1] = (a, m);
-                        sp += 2;
-                        continue;
-                    }
-                    Side::Touch
+            let side = if crossing {
+                crossing_side
+            } else {
+                if splittable && len > fine {
+                    // halve it (evaluated at the next iteration's top)
+                    kind = Pending::Split;
+                    req[0] = mid;
+                    nreq = 1;
+                    (split_a, split_b) = (a, b);
+                    continue;
                 }
+                Side::Touch
             };
             let t = if a.f.contains(T::ZERO) { a.t } else { mid };
             let next = w.register(Root { t, side }, a.t);
             if next.stop {
-                return Err(next.trace);
+                return Flow::stop(next.trace);
             }
             if side == Side::Touch {
                 // the rest of this contact, up to t + eps, is the same root
@@ -720,16 +926,14 @@ fn process_region<T: Real>(
                 while sp > 0 && stack[sp - 1].1.t <= end {
                     sp -= 1;
                 }
-                if sp > 0 && stack[sp - 1].0.t < end {
-                    stack[sp - 1].0 = point(end, w);
-                }
-                if cur.t < end {
-                    cur = point(end, w);
+                fix_top = sp > 0 && stack[sp - 1].0.t < end;
+                fix_cur = cur.t < end;
+                if fix_top || fix_cur {
+                    kind = Pending::TouchEnd;
+                    req = [end; 2];
+                    nreq = usize::from(fix_top) + usize::from(fix_cur);
                 }
             }
-            continue;
-        }
-        if ctx.root_free(hits, &a, &b, &mut w.stats) {
             continue;
         }
         let (sa, sb) = (sign_of(a.f), sign_of(b.f));
@@ -738,44 +942,67 @@ fn process_region<T: Real>(
             Split::Oracle => true,
             Split::Bisection => bracketed && len <= refine,
         };
-        let guess = if use_oracle {
-            let (ga, da) = *a.herm.get_or_insert_with(|| {
-                w.stats.field_evals += 1;
-                ctx.hermite(hits, a.t)
-            });
-            let (gb, db) = *b.herm.get_or_insert_with(|| {
-                w.stats.field_evals += 1;
-                ctx.hermite(hits, b.t)
-            });
+        // the predicted root, NaN for none
+        let mut guess = T::nan();
+        if use_oracle {
+            // the Hermite data of both ends, from one call site
+            let ends = [a, b];
+            let mut herm = [[T::ZERO; 2]; 2];
+            let mut e = 0;
+            while e < 2 {
+                herm[e] = if ends[e].has_herm {
+                    ends[e].herm
+                } else {
+                    w.stats.field_evals += 1;
+                    ctx.hermite(hits, ends[e].t)
+                };
+                e += 1;
+            }
+            (a.herm, b.herm) = (herm[0], herm[1]);
+            (a.has_herm, b.has_herm) = (true, true);
+            let [ga, da] = a.herm;
+            let [gb, db] = b.herm;
             let weight = if bracketed {
                 T::ONE
             } else {
                 T::from_f64(ORACLE_WEIGHT)
             };
-            let g = oracle(a.t, b.t, ga, da, gb, db, weight);
+            let g = match oracle(a.t, b.t, ga, da, gb, db, weight) {
+                Some(t) => t,
+                None => T::nan(),
+            };
             // Before a sign change, the Newton step from the left end where
             // it lies further than the oracle's root: on a long interval
             // the far end's Hermite data pull the interpolant's root short
             // of a near-linear approach, one short guess after another.
-            let newton = (!bracketed && ga * da < T::ZERO)
-                .then(|| a.t - ga / da)
-                .filter(|&t| t > a.t && t < b.t);
-            match (g, newton) {
-                (Some(x), Some(t)) => Some(x.max(t)),
-                (None, t) => t,
-                (x, None) => x,
+            let mut newton = T::nan();
+            if !bracketed && ga * da < T::ZERO {
+                let t = a.t - ga / da;
+                if t > a.t && t < b.t {
+                    newton = t;
+                }
             }
-        } else {
-            None
-        };
+            guess = if g.is_nan() {
+                newton
+            } else if newton.is_nan() {
+                g
+            } else {
+                g.max(newton)
+            };
+        }
         // split at t_root ± δ (both, one or none of them inside), else at
         // the midpoint
         let mut cuts = [mid; 2];
         let mut nc = 1;
-        if let Some(g) = guess.filter(|&g| g > a.t && g < b.t) {
+        if guess > a.t && guess < b.t {
+            let g = guess;
             let (u, v) = (round::sub_down(g, delta), round::add_down(g, delta));
             nc = 0;
-            for c in [u, v] {
+            let uv = [u, v];
+            let mut q = 0;
+            while q < 2 {
+                let c = uv[q];
+                q += 1;
                 if c > a.t && c < b.t && (nc == 0 || c > cuts[0]) {
                     cuts[nc] = c;
                     nc += 1;
@@ -786,18 +1013,24 @@ fn process_region<T: Real>(
                 nc = 1;
             }
         }
-        let mut right = b;
-        let mut k = nc;
-        while k > 0 {
-            k -= 1;
-            let p = point(cuts[k], w);
-            stack[sp] = (p, right);
-            sp += 1;
-            right = p;
-        }
-        stack[sp] = (a, right);
-        sp += 1;
+        kind = Pending::Split;
+        req = cuts;
+        nreq = nc;
+        (split_a, split_b) = (a, b);
     }
+}
+
+/// What the points requested by one iteration of [`process_region`] are
+/// for (they are evaluated at the top of the next one).
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Pending {
+    /// The cursor's point (when not yet evaluated) and the next argmin's,
+    /// which start a pre-segmented interval (none: nothing to evaluate).
+    Start,
+    /// The cuts of `[split_a, split_b]`, pushed as sub-intervals.
+    Split,
+    /// The end of a touch, for the stack's top interval and the cursor.
+    TouchEnd,
 }
 
 /// A window of the ray as a [`Field`]: the sum over its hits (support-box
@@ -1040,17 +1273,17 @@ mod tests {
                 iso: sk.iso(),
                 ray: &ray,
             };
-            let pt = |t: f64| Pt {
-                t,
-                f: ctx.value(list.hits(), t),
-                herm: None,
+            let all = HitRange {
+                start: 0,
+                end: list.hits().len(),
             };
+            let pt = |t: f64| Pt::new(t, ctx.value(all, t));
             for len in [0.5, 0.1, 0.02, 0.004] {
                 let n = (6.0 / len) as u32;
                 for i in 0..n {
                     let (a, b) = (f64::from(i) * len, f64::from(i + 1) * len);
                     let mut stats = RayStats::default();
-                    if !ctx.root_free(list.hits(), &pt(a), &pt(b), &mut stats) {
+                    if !ctx.root_free(all, &pt(a), &pt(b), &mut stats) {
                         continue;
                     }
                     proven += 1;
@@ -1063,7 +1296,7 @@ mod tests {
                             "[{a}, {b}] proven root-free, field {v} at {t}"
                         );
                     }
-                    let r = ctx.range(list.hits(), a, b, &mut stats);
+                    let r = ctx.range(all, a, b, &mut stats);
                     beyond += usize::from(r.contains(0.0));
                 }
             }
