@@ -48,7 +48,7 @@ mod groups;
 mod scalis;
 
 pub use groups::FlatBlobGroups;
-pub use scalis::render_scalis_leg;
+pub use scalis::{ScalisLeg, render_scalis_leg};
 
 use boundtrace_fields::AlgebraicPrimitives;
 use boundtrace_fields::blobtree::{BlobtreeRef, BlobtreeWindow};
@@ -622,6 +622,20 @@ struct LimitProbe {
     until: u32,
 }
 
+impl LimitProbe {
+    /// The probe of `loops` iterations for a leg of at most `leg_steps`
+    /// steps (`0`: no limit) after the `done` steps of the earlier legs.
+    fn for_leg(loops: u32, leg_steps: u32, done: u32) -> Self {
+        // (No `saturating_add`: rust-gpu 0.11 lacks it.)
+        let until = if leg_steps == 0 || leg_steps > u32::MAX - done {
+            u32::MAX
+        } else {
+            done + leg_steps
+        };
+        Self { loops, until }
+    }
+}
+
 impl StepGuard for LimitProbe {
     fn before_step(&mut self, steps: u32) -> bool {
         steps < self.until
@@ -740,17 +754,8 @@ impl<M: LegTrace> PixelKernel for Legs<M> {
                     if leg.phase == PHASE_FRESH {
                         leg.state = MarchState::start(span, &setup.params);
                     }
-                    // (No `saturating_add`: rust-gpu 0.11 lacks it.)
-                    let done = leg.state.stats.steps;
-                    let until = if self.leg_steps == 0 || self.leg_steps > u32::MAX - done {
-                        u32::MAX
-                    } else {
-                        done + self.leg_steps
-                    };
-                    let mut guard = LimitProbe {
-                        loops: self.loops,
-                        until,
-                    };
+                    let mut guard =
+                        LimitProbe::for_leg(self.loops, self.leg_steps, leg.state.stats.steps);
                     let r = M::trace(
                         field,
                         &ray,

@@ -4,28 +4,58 @@
 //! [`PrimitiveLists`](boundtrace_tracer::scalis::PrimitiveLists)).
 
 use crate::{
-    Constants, HitOut, PHASE_DONE, PHASE_FRESH, PHASE_SHADING, PixelLeg, PixelOut, SceneKind,
-    hit_at, loops_complete, record, unsupported, window_len,
+    Constants, HitOut, LimitProbe, PHASE_DONE, PHASE_FRESH, PHASE_SHADING, PHASE_TRACING, PixelOut,
+    STATUS_PAUSED, SceneKind, hit_at, loops_complete, record, unsupported, window_len,
 };
 use boundtrace_fields::scalis::{ScalisSegment, ScalisSkeleton};
 use boundtrace_tracer::camera::ray_box_span;
 use boundtrace_tracer::pixel::PixelTrace;
-use boundtrace_tracer::scalis::{PrimitiveHit, trace_scalis_in};
+use boundtrace_tracer::scalis::{PrimitiveHit, ScalisState, trace_scalis_resume_in};
 use boundtrace_tracer::{Method, RayStats, Root, Status, Trace};
 
-/// One leg of pixel `(x, y)` of a SCALIS frame (the leg kernels' state
-/// machine, [`PixelLeg`]; the shader's `trace_scalis` entry point): the
-/// pixel's trace with [`trace_scalis_in`] over its primitive list
+/// A SCALIS pixel's resumable trace between two dispatches
+/// ([`render_scalis_leg`]): the pixel's phase, its shading progress and
+/// the tracer's state ([`ScalisState`], with its interval stack).
+/// `#[repr(C)]`; the host zero-fills the buffer ([`PHASE_FRESH`], the
+/// state of a trace not begun).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C)]
+pub struct ScalisLeg {
+    /// [`PHASE_FRESH`], [`PHASE_TRACING`], [`PHASE_SHADING`] or
+    /// [`PHASE_DONE`].
+    pub phase: u32,
+    /// [`PHASE_SHADING`]: the roots whose hits (with normals) are written.
+    pub shaded: u32,
+    /// Where the trace resumes ([`PHASE_TRACING`]).
+    pub state: ScalisState<f32>,
+}
+
+impl Default for ScalisLeg {
+    /// A pixel not started (all zeros).
+    fn default() -> Self {
+        Self {
+            phase: PHASE_FRESH,
+            shaded: 0,
+            state: ScalisState::start(),
+        }
+    }
+}
+
+/// One leg of pixel `(x, y)` of a SCALIS frame (the shader's
+/// `trace_scalis` entry point): the pixel's trace with
+/// [`trace_scalis_resume_in`] over its primitive list
 /// `lists[offsets[i]..offsets[i + 1]]` (`i = y·width + x`) and the
 /// skeleton `segments` with [`Constants::iso`], then its hits with normals
 /// (the normal of the whole skeleton, as the CPU renderer computes it).
 ///
-/// The trace itself is not resumable: when the loop-limit probe
-/// ([`loops_complete`]) fails after it, the pixel stays
-/// [`PHASE_FRESH`](crate::PHASE_FRESH) and the next dispatch traces it
-/// again (a host sees no progress when a trace always needs more loop
-/// iterations than the driver allows). Shading resumes root by root, as in
-/// the other leg kernels.
+/// The trace runs in legs, as [`render_sphere_leg`](crate::render_sphere_leg)'s:
+/// [`Constants::leg_steps`] steps at most per leg, the loop-limit probe
+/// ([`loops_complete`], [`Constants::guard_loops`] iterations) after every
+/// iteration of the processing; an iteration the driver's loop limit cut
+/// is undone and done again in the next leg, so that the record is the
+/// uninterrupted [`trace_scalis_in`](boundtrace_tracer::scalis::trace_scalis_in)'s,
+/// bit for bit. Shading resumes root by root. A leg that cannot complete
+/// one iteration makes no progress: the host detects it.
 ///
 /// [`Status::Unsupported`] for another method than `scalis-quadratic` or
 /// `interval`, another scene kind than [`SceneKind::Scalis`], bad constants
@@ -41,7 +71,7 @@ pub fn render_scalis_leg(
     roots: &mut [Root<f32>],
     hits: &mut [HitOut],
     base: usize,
-    leg: &mut PixelLeg,
+    leg: &mut ScalisLeg,
     out: &mut PixelOut,
 ) {
     if leg.phase >= PHASE_DONE {
@@ -66,7 +96,8 @@ pub fn render_scalis_leg(
     let window = [base, window_len(c.max_roots)];
     let ray = setup.camera.ray(x, y, setup.width, setup.height);
     let span = ray_box_span(&ray, &setup.bounds);
-    if leg.phase == PHASE_FRESH {
+    if leg.phase < PHASE_SHADING {
+        let mut paused = false;
         let trace = match span {
             None => Trace {
                 roots: 0,
@@ -83,7 +114,9 @@ pub fn render_scalis_leg(
                     // bad offsets: an out-of-range list (Unsupported)
                     [lists.len() + 1, 0]
                 };
-                trace_scalis_in(
+                let mut guard =
+                    LimitProbe::for_leg(c.guard_loops, c.leg_steps, leg.state.walk.stats.steps);
+                let r = trace_scalis_resume_in(
                     segments,
                     c.iso,
                     lists,
@@ -95,13 +128,13 @@ pub fn render_scalis_leg(
                     &setup.params,
                     roots,
                     window,
-                )
+                    &mut leg.state,
+                    &mut guard,
+                );
+                paused = r.paused;
+                r.trace
             }
         };
-        if !loops_complete(c.guard_loops) {
-            // the driver's loop limit cut the trace: trace it again
-            return;
-        }
         // Never report more roots than the window holds.
         let n = if (trace.roots as usize) < window[1] {
             trace.roots
@@ -113,6 +146,13 @@ pub fn render_scalis_leg(
             span,
             trace: Trace { roots: n, ..trace },
         };
+        if paused {
+            leg.phase = PHASE_TRACING;
+            *out = record(&px);
+            out.status = STATUS_PAUSED;
+            out.steps = leg.state.walk.stats.steps;
+            return;
+        }
         *out = record(&px);
         leg.phase = PHASE_SHADING;
         leg.shaded = 0;

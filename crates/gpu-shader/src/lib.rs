@@ -40,6 +40,8 @@
 use boundtrace_fields::PointBlob;
 #[cfg(feature = "scalis")]
 use boundtrace_fields::scalis::ScalisSegment;
+#[cfg(feature = "scalis")]
+use boundtrace_gpu_kernel::ScalisLeg;
 #[allow(unused_imports)]
 use boundtrace_gpu_kernel as kernel;
 #[cfg(feature = "trace")]
@@ -448,10 +450,11 @@ fn leg_entry<R>(
 
 /// `scalis-quadratic` and the per-primitive `interval` bisection on SCALIS
 /// skeletons (`render_scalis_leg`), feature `scalis`, a module of its own:
-/// the leg entry points' layout and legs, with the `u32` buffer holding the
+/// the leg entry points' layout, with the `u32` buffer holding the
 /// per-pixel offsets of the primitive lists, binding 2 the lists
-/// (`PrimitiveHit<f32>`, built on the host) and binding 3 the segments
-/// (`ScalisSegment<f32>`).
+/// (`PrimitiveHit<f32>`, built on the host), binding 3 the segments
+/// (`ScalisSegment<f32>`) and binding 7 the pixels' resumable traces
+/// (`ScalisLeg`, with their interval stacks).
 #[cfg(feature = "scalis")]
 #[allow(clippy::too_many_arguments)]
 #[spirv(compute(threads(8, 8)))]
@@ -464,7 +467,7 @@ pub fn trace_scalis(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] pixels: &mut [PixelOut],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] hits: &mut [HitOut],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] roots: &mut [Root<f32>],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] legs: &mut [PixelLeg],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] legs: &mut [ScalisLeg],
 ) {
     let c = *constants;
     if id.x >= c.width || id.y >= c.height {
@@ -475,12 +478,11 @@ pub fn trace_scalis(
         return;
     }
     let base = i * c.max_roots as usize;
-    let mut leg = legs[i];
     let mut out = pixels[i];
+    // the leg in place: its interval stack is 768 words
     kernel::render_scalis_leg(
-        &c, offsets, lists, segments, id.x, id.y, roots, hits, base, &mut leg, &mut out,
+        &c, offsets, lists, segments, id.x, id.y, roots, hits, base, &mut legs[i], &mut out,
     );
-    legs[i] = leg;
     pixels[i] = out;
 }
 

@@ -135,7 +135,7 @@
 use boundtrace_fields::PointBlob;
 use boundtrace_fields::scalis::{SCALIS_SEGMENT_WORDS, ScalisSegment};
 use boundtrace_gpu_kernel::{
-    Constants, HitOut, PHASE_DONE, PHASE_SHADING, PixelLeg, PixelOut, WORKGROUP,
+    Constants, HitOut, PHASE_DONE, PHASE_SHADING, PixelLeg, PixelOut, ScalisLeg, WORKGROUP,
 };
 pub use boundtrace_gpu_kernel::{MAX_GPU_ROOTS, SceneKind};
 use boundtrace_tracer::camera::Camera;
@@ -790,6 +790,34 @@ pub struct RenderProfile {
 /// Words of a [`PixelLeg`].
 const LEG_WORDS: usize = core::mem::size_of::<PixelLeg>() / 4;
 
+/// Words of a [`ScalisLeg`] (the SCALIS module's legs, with their
+/// interval stacks).
+const SCALIS_LEG_WORDS: usize = core::mem::size_of::<ScalisLeg>() / 4;
+
+/// A leg record's words and where its phase is in them.
+#[derive(Clone, Copy, Debug)]
+struct LegLayout {
+    words: usize,
+    phase_at: usize,
+}
+
+impl LegLayout {
+    /// The legs of the entry points for scenes of `kind`.
+    fn of(kind: SceneKind) -> Self {
+        if kind == SceneKind::Scalis {
+            Self {
+                words: SCALIS_LEG_WORDS,
+                phase_at: core::mem::offset_of!(ScalisLeg, phase) / 4,
+            }
+        } else {
+            Self {
+                words: LEG_WORDS,
+                phase_at: core::mem::offset_of!(PixelLeg, phase) / 4,
+            }
+        }
+    }
+}
+
 impl GpuTracer {
     /// Selects an adapter (high-performance preference; `WGPU_BACKEND`
     /// and the other wgpu environment variables apply), creates a device
@@ -1151,8 +1179,15 @@ impl GpuTracer {
         };
         let n = settings.width as usize * settings.height as usize;
         let data = scene.buffers(camera, settings);
-        let (pix_words, hit_words, dispatches, dispatch) =
-            self.run(pipeline, resumable, &c, &data, n, n * slots as usize)?;
+        let (pix_words, hit_words, dispatches, dispatch) = self.run(
+            pipeline,
+            resumable,
+            LegLayout::of(scene.kind),
+            &c,
+            &data,
+            n,
+            n * slots as usize,
+        )?;
         let mut pixels = Vec::with_capacity(n);
         let mut hits = Vec::new();
         for i in 0..n {
@@ -1190,10 +1225,12 @@ impl GpuTracer {
     /// entry point) and reads back the pixel and hit words; also the number
     /// of dispatches and the wall-clock time from the first submission to
     /// the end of the last dispatch.
+    #[allow(clippy::too_many_arguments)]
     fn run(
         &self,
         pipeline: &wgpu::ComputePipeline,
         resumable: bool,
+        leg: LegLayout,
         c: &Constants,
         data: &[Vec<u32>; 3],
         pixels: usize,
@@ -1244,8 +1281,20 @@ impl GpuTracer {
         let outs = [output("pixels", pix_bytes), output("hits", hit_bytes)];
         // The tracer's root buffer: a window of `max_roots` slots per pixel.
         let roots = output("roots", (hits.max(1) * 2 * 4) as u64);
-        // `trace_sphere`'s per-pixel legs, zero-filled by wgpu (`PHASE_FRESH`).
-        let leg_bytes = (pixels.max(1) * LEG_WORDS * 4) as u64;
+        // The per-pixel legs, zero-filled by wgpu (`PHASE_FRESH`).
+        let leg_bytes = (pixels.max(1) * leg.words * 4) as u64;
+        let limits = dev.limits();
+        let most = limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size);
+        if leg_bytes > most {
+            return Err(GpuError::UnsupportedScene(format!(
+                "the frame's {pixels} pixels need {leg_bytes} bytes of resumable trace state \
+                 ({} bytes each), more than the device binds in one buffer ({most}): \
+                 render fewer pixels",
+                leg.words * 4
+            )));
+        }
         let legs = output("legs", leg_bytes);
         let backs = [
             readback("pixels-read", pix_bytes),
@@ -1324,8 +1373,8 @@ impl GpuTracer {
                 break;
             }
             let mut words = read_back(dev, &legs_back)?;
-            words.truncate(pixels * LEG_WORDS);
-            let (pending, shading) = leg_progress(&words);
+            words.truncate(pixels * leg.words);
+            let (pending, shading) = leg_progress(&words, leg);
             if pending == 0 {
                 break;
             }
@@ -1360,12 +1409,11 @@ impl GpuTracer {
 
 /// The pixels not done and those of them in [`PHASE_SHADING`], from the
 /// legs' words.
-fn leg_progress(words: &[u32]) -> (usize, usize) {
+fn leg_progress(words: &[u32], layout: LegLayout) -> (usize, usize) {
     let mut pending = 0;
     let mut shading = 0;
-    let phase_at = core::mem::offset_of!(PixelLeg, phase) / 4;
-    for leg in words.chunks_exact(LEG_WORDS) {
-        let phase = leg[phase_at];
+    for leg in words.chunks_exact(layout.words) {
+        let phase = leg[layout.phase_at];
         pending += usize::from(phase < PHASE_DONE);
         shading += usize::from(phase == PHASE_SHADING);
     }
@@ -1663,6 +1711,11 @@ enum BufferLayout {
 fn host_layouts_of(scalis: bool) -> [(u32, BufferLayout); 8] {
     use core::mem::size_of;
     let size = |n: usize| n as u32;
+    let legs = if scalis {
+        size_of::<ScalisLeg>()
+    } else {
+        size_of::<PixelLeg>()
+    };
     let (floats, blobs) = if scalis {
         (
             BufferLayout::Array(size(size_of::<PrimitiveHit<f32>>())),
@@ -1682,7 +1735,7 @@ fn host_layouts_of(scalis: bool) -> [(u32, BufferLayout); 8] {
             6,
             BufferLayout::Array(size(size_of::<boundtrace_tracer::Root<f32>>())),
         ),
-        (7, BufferLayout::Array(size(size_of::<PixelLeg>()))),
+        (7, BufferLayout::Array(size(legs))),
     ]
 }
 
@@ -2278,9 +2331,20 @@ mod tests {
         {
             words[i * LEG_WORDS + phase_at] = phase;
         }
-        assert_eq!(leg_progress(&words), (2, 1));
+        let layout = LegLayout::of(SceneKind::Blobs);
+        assert_eq!(leg_progress(&words, layout), (2, 1));
         // A fresh (zero-filled) frame: every pixel pending, none shading.
-        assert_eq!(leg_progress(&vec![0; 3 * LEG_WORDS]), (3, 0));
+        assert_eq!(leg_progress(&vec![0; 3 * LEG_WORDS], layout), (3, 0));
+        // The SCALIS legs: phase first, then the tracer's state.
+        let layout = LegLayout::of(SceneKind::Scalis);
+        let mut words = vec![0u32; 3 * SCALIS_LEG_WORDS];
+        words[SCALIS_LEG_WORDS] = PHASE_DONE;
+        words[2 * SCALIS_LEG_WORDS] = PHASE_SHADING;
+        assert_eq!(leg_progress(&words, layout), (2, 1));
+        assert_eq!(
+            SCALIS_LEG_WORDS,
+            2 + core::mem::size_of::<boundtrace_tracer::scalis::ScalisState<f32>>() / 4
+        );
         // The leg record: the tracer's state, then the phase and the roots
         // shaded (what the shader writes).
         assert_eq!(
@@ -2638,7 +2702,7 @@ mod tests {
     /// from their words as the shader reads them: the layout check of
     /// `to_words`) against the CPU renderer's `render_scene`: the same
     /// records and roots on every pixel, bit for bit, for both methods and
-    /// modes.
+    /// modes, in one leg per pixel or in legs of a few steps.
     #[test]
     fn scalis_kernels_on_the_host_match_the_cpu() {
         use boundtrace_gpu_kernel as k;
@@ -2650,8 +2714,16 @@ mod tests {
             assert_eq!(data.kind(), SceneKind::Scalis);
             let camera = Camera::framing(scene.bounds(), [0.3, -0.4, -1.0], 40.0, 1.0).unwrap();
             let size = 10;
-            for method in [Method::ScalisQuadratic, Method::Interval] {
-                for mode in [Mode::Opaque, Mode::Transparent] {
+            let combos = [
+                (Method::ScalisQuadratic, Mode::Opaque, 0),
+                (Method::ScalisQuadratic, Mode::Transparent, 0),
+                (Method::Interval, Mode::Opaque, 0),
+                (Method::Interval, Mode::Transparent, 0),
+                (Method::ScalisQuadratic, Mode::Transparent, 2),
+                (Method::Interval, Mode::Transparent, 5),
+            ];
+            for (method, mode, leg_steps) in combos {
+                {
                     let settings = RenderSettings::new(size, size, method)
                         .unwrap()
                         .with_mode(mode)
@@ -2661,9 +2733,13 @@ mod tests {
                         Mode::Opaque => 1,
                         Mode::Transparent => MAX_GPU_ROOTS,
                     };
-                    let c = data.constants(&camera, &settings, slots);
+                    let c = Constants {
+                        leg_steps,
+                        ..data.constants(&camera, &settings, slots)
+                    };
                     let [offsets, lists, segments] = data.buffers(&camera, &settings);
                     assert_eq!(offsets.len(), (size * size + 1) as usize);
+                    let mut max_legs = 0;
                     let lists: Vec<PrimitiveHit<f32>> = read_as(&lists);
                     let segments: Vec<ScalisSegment<f32>> = read_as(&segments);
                     assert_eq!(segments, data.segments);
@@ -2679,12 +2755,19 @@ mod tests {
                     for i in 0..n {
                         let (x, y) = (i as u32 % size, i as u32 / size);
                         let base = i * slots as usize;
-                        let (mut leg, mut p) = (PixelLeg::default(), PixelOut::default());
-                        k::render_scalis_leg(
-                            &c, &offsets, &lists, &segments, x, y, &mut roots, &mut hits, base,
-                            &mut leg, &mut p,
-                        );
-                        assert_eq!(leg.phase, PHASE_DONE, "{name} {method} {mode:?} ({x}, {y})");
+                        let (mut leg, mut p) = (ScalisLeg::default(), PixelOut::default());
+                        // in legs of `leg_steps` steps (0: one leg)
+                        let mut legs = 0;
+                        while leg.phase != PHASE_DONE {
+                            legs += 1;
+                            assert!(legs < 100_000, "{name} {method} {mode:?}: no progress");
+                            k::render_scalis_leg(
+                                &c, &offsets, &lists, &segments, x, y, &mut roots, &mut hits, base,
+                                &mut leg, &mut p,
+                            );
+                        }
+                        assert!(legs == 1 || c.leg_steps > 0);
+                        max_legs = max_legs.max(legs);
                         let a = cpu.pixel(x, y).unwrap();
                         let s = &a.trace.stats;
                         assert_eq!(
@@ -2713,6 +2796,8 @@ mod tests {
                         hit_pixels += usize::from(!want.is_empty());
                     }
                     assert!(hit_pixels > 0, "{name} {method} {mode:?}: no pixel hits");
+                    // short legs: many per pixel, the same records
+                    assert!(leg_steps == 0 || max_legs > 3, "{max_legs}");
                 }
             }
         }

@@ -166,11 +166,11 @@ impl<'a, T: Copy> RootSlots<'a, T> {
     }
 
     #[inline]
-    fn get(&self, i: usize) -> Root<T> {
+    pub(crate) fn get(&self, i: usize) -> Root<T> {
         self.buf[self.base + i]
     }
     #[inline]
-    fn set(&mut self, i: usize, root: Root<T>) {
+    pub(crate) fn set(&mut self, i: usize, root: Root<T>) {
         self.buf[self.base + i] = root;
     }
 }

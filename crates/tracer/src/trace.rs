@@ -337,7 +337,10 @@ impl<T: Real> Leg<T> {
 ///
 /// The bisection methods ([`Method::Interval`], [`Method::Affine`]) and
 /// [`Method::ScalisQuadratic`] keep a stack, not a loop state: they are not
-/// resumable and give a [`Status::Unsupported`] record (never paused).
+/// resumable here and give a [`Status::Unsupported`] record (never
+/// paused); on SCALIS skeletons
+/// [`trace_scalis_resume_in`](crate::scalis::trace_scalis_resume_in) runs
+/// `scalis-quadratic` and `interval` in legs, with the stack in its state.
 ///
 /// ```
 /// use boundtrace_inclusion::{Field, FieldNum, Ray};

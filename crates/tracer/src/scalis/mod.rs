@@ -74,9 +74,9 @@ pub mod list;
 pub use list::PrimitiveLists;
 pub use list::{ListError, PrimitiveHit, RayPrimitives, check_segments, for_each_region};
 
-use crate::march::{TOUCH_DEPTH, Walk, sign_of};
+use crate::march::{StepGuard, TOUCH_DEPTH, Unguarded, Walk, sign_of};
 use crate::method::{Method, Mode, Params};
-use crate::trace::{RayStats, Root, Side, Status, Trace, trace};
+use crate::trace::{Leg, RayStats, Root, Side, Status, Trace, trace};
 use boundtrace_fields::scalis::{ScalisSegment, ScalisSkeleton};
 use boundtrace_ia_core::{Interval, Real, round};
 use boundtrace_inclusion::{Field, FieldNum, Jet, Ray};
@@ -213,11 +213,111 @@ pub fn trace_scalis_in<T: Real>(
     roots: &mut [Root<T>],
     window: [usize; 2],
 ) -> Trace<T> {
-    let unsupported = Trace {
-        roots: 0,
-        status: Status::Unsupported,
-        t_reached: span[0],
-        stats: RayStats::default(),
+    let mut state = ScalisState::start();
+    trace_scalis_resume_in(
+        segments,
+        iso,
+        lists,
+        list,
+        ray,
+        span,
+        method,
+        mode,
+        params,
+        roots,
+        window,
+        &mut state,
+        &mut Unguarded,
+    )
+    .trace
+}
+
+/// [`trace_scalis_in`] in legs: the same trace from `state` (start with
+/// [`ScalisState::start`], all zeros), pausing where `guard` says so and
+/// saving where it stopped into `state` — the GPU's form, for a driver
+/// that cuts long loops (lavapipe), as
+/// [`trace_sphere_resume_in`](crate::trace_sphere_resume_in) is for the
+/// marching methods. Called again with the same arguments and the saved
+/// state, it goes on exactly where it stopped: the legs of a trace give the
+/// roots, record and counters of the uninterrupted [`trace_scalis_in`],
+/// whatever the pauses.
+///
+/// One iteration of the processing (the point evaluations one interval
+/// asked for, then the interval taken from the stack, thesis Part III
+/// §1.3–1.4) is one step between two guard calls: an iteration the guard
+/// rejects after it ran ([`StepGuard::after_step`]) is undone — the state,
+/// the stack entry it overwrote and the last root — and redone in the
+/// next leg. The first iteration checks the segments' supports, each
+/// region of overlapping supports starts with one that merges its hits.
+///
+/// ```
+/// use boundtrace_fields::homothetic::{Segment, SegmentKernel};
+/// use boundtrace_fields::scalis::{ScalisSegment, ScalisSkeleton};
+/// use boundtrace_inclusion::Ray;
+/// use boundtrace_tracer::march::StepGuard;
+/// use boundtrace_tracer::scalis::{
+///     PrimitiveHit, RayPrimitives, ScalisState, trace_scalis_in, trace_scalis_resume_in,
+/// };
+/// use boundtrace_tracer::{Method, Mode, Params, Root, Side};
+///
+/// let k = SegmentKernel::compact_polynomial(6, 2.0).unwrap();
+/// let bone = Segment::new([0.0, -1.0, 0.0], 0.1, [0.0, 1.0, 0.0], 0.15).unwrap();
+/// let sk = ScalisSkeleton::new([ScalisSegment::new(bone, k, 1.0).unwrap()]).unwrap();
+/// let ray = Ray::new([-2.0, 0.05, 0.02], [1.0, 0.0, 0.0]);
+/// let mut store = [PrimitiveHit::empty(); 4];
+/// let hits = RayPrimitives::build(sk.segments(), &ray, [0.0, 6.0], &mut store).hits().to_vec();
+/// let (p, m) = (Params::new(), Method::ScalisQuadratic);
+/// let none = Root { t: 0.0, side: Side::Touch };
+/// let mut whole = [none; 4];
+/// let once = trace_scalis_in(
+///     sk.segments(), sk.iso(), &hits, [0, hits.len()], &ray, [0.0, 6.0], m,
+///     Mode::Transparent, &p, &mut whole, [0, 4],
+/// );
+/// /// Two iterations per leg.
+/// struct Two(u32);
+/// impl StepGuard for Two {
+///     fn before_step(&mut self, _: u32) -> bool { self.0 += 1; self.0 <= 2 }
+///     fn after_step(&mut self) -> bool { true }
+/// }
+/// let (mut state, mut roots, mut legs) = (ScalisState::start(), [none; 4], 0);
+/// let last = loop {
+///     legs += 1;
+///     let leg = trace_scalis_resume_in(
+///         sk.segments(), sk.iso(), &hits, [0, hits.len()], &ray, [0.0, 6.0], m,
+///         Mode::Transparent, &p, &mut roots, [0, 4], &mut state, &mut Two(0),
+///     );
+///     if !leg.paused {
+///         break leg.trace;
+///     }
+/// };
+/// assert_eq!(once.roots, 2);
+/// assert!(legs > 2);
+/// assert_eq!((last, roots), (once, whole));
+/// ```
+#[allow(clippy::too_many_arguments)]
+pub fn trace_scalis_resume_in<T: Real, G: StepGuard>(
+    segments: &[ScalisSegment<T>],
+    iso: T,
+    lists: &[PrimitiveHit<T>],
+    list: [usize; 2],
+    ray: &Ray<T>,
+    span: [T; 2],
+    method: Method,
+    mode: Mode,
+    params: &Params<T>,
+    roots: &mut [Root<T>],
+    window: [usize; 2],
+    state: &mut ScalisState<T>,
+    guard: &mut G,
+) -> Leg<T> {
+    let unsupported = Leg {
+        paused: false,
+        trace: Trace {
+            roots: 0,
+            status: Status::Unsupported,
+            t_reached: span[0],
+            stats: RayStats::default(),
+        },
     };
     let split = if method == Method::ScalisQuadratic {
         Split::Oracle
@@ -235,7 +335,8 @@ pub fn trace_scalis_in<T: Real>(
         || len > roots.len() - base
         || lo > lists.len()
         || n > lists.len() - lo
-        || !finite_supports(segments)
+        || state.walk.sp as usize > STACK_CAPACITY
+        || state.walk.roots as usize > len
     {
         return unsupported;
     }
@@ -251,33 +352,96 @@ pub fn trace_scalis_in<T: Real>(
         len,
     };
     let mut w = Walk::new(slots, mode, params.eps);
-    // the merged covered regions (`for_each_region`)
+    w.n = state.walk.roots;
+    w.stats = state.walk.stats;
     let end = lo + n;
-    let mut i = lo;
-    while i < end {
-        let (start, mut stop) = (lists[i].entry, lists[i].exit);
-        let mut j = i + 1;
-        while j < end && lists[j].entry <= stop {
-            stop = stop.max(lists[j].exit);
-            j += 1;
+    let zero = ScalisPoint::new(T::ZERO, Interval::point(T::ZERO));
+    loop {
+        if !guard.before_step(w.stats.steps) {
+            return Leg {
+                paused: true,
+                trace: w.done(Status::Finished, state.walk.region[0]),
+            };
         }
-        let (a, b) = (start.max(span[0]), stop.min(span[1]));
-        if a <= b {
-            let flow = process_region(
-                &ctx,
-                [a, b],
-                HitRange { start: i, end: j },
-                params,
-                split,
-                &mut w,
-            );
-            if flow.stop {
-                return flow.trace;
+        // What this iteration may overwrite, to undo it.
+        let saved = state.walk;
+        let sp = saved.sp as usize;
+        let top = if sp > 0 {
+            state.stack[sp - 1]
+        } else {
+            [zero; 2]
+        };
+        let last = if w.n > 0 {
+            w.roots.get(w.n as usize - 1)
+        } else {
+            Root {
+                t: T::ZERO,
+                side: Side::Touch,
             }
+        };
+        let flow = if state.walk.started == 0 {
+            state.walk.started = 1;
+            if finite_supports(segments) {
+                Flow::go()
+            } else {
+                Flow::stop(unsupported.trace)
+            }
+        } else if state.walk.in_region == 0 {
+            // the next merged covered region (`for_each_region`)
+            let i = lo + state.walk.next as usize;
+            if i >= end {
+                Flow::stop(w.done(Status::Finished, span[1]))
+            } else {
+                let (start, mut stop) = (lists[i].entry, lists[i].exit);
+                let mut j = i + 1;
+                while j < end && lists[j].entry <= stop {
+                    stop = stop.max(lists[j].exit);
+                    j += 1;
+                }
+                let (a, b) = (start.max(span[0]), stop.min(span[1]));
+                state.walk.first = (i - lo) as u32;
+                state.walk.next = (j - lo) as u32;
+                if a <= b {
+                    state.walk.start_region([a, b]);
+                }
+                Flow::go()
+            }
+        } else {
+            let hits = HitRange {
+                start: lo + state.walk.first as usize,
+                end: lo + state.walk.next as usize,
+            };
+            let flow = region_iteration(&ctx, state, hits, params, split, &mut w);
+            if flow.done {
+                state.walk.in_region = 0;
+            }
+            flow
+        };
+        if !guard.after_step() {
+            // undo the iteration: it is done again in the next leg
+            state.walk = saved;
+            if sp > 0 {
+                state.stack[sp - 1] = top;
+            }
+            if saved.roots > 0 {
+                w.roots.set(saved.roots as usize - 1, last);
+            }
+            w.n = saved.roots;
+            w.stats = saved.stats;
+            return Leg {
+                paused: true,
+                trace: w.done(Status::Finished, state.walk.region[0]),
+            };
         }
-        i = j;
+        state.walk.roots = w.n;
+        state.walk.stats = w.stats;
+        if flow.stop {
+            return Leg {
+                paused: false,
+                trace: flow.trace,
+            };
+        }
     }
-    w.done(Status::Finished, span[1])
 }
 
 /// Whether every segment has a finite (compact) support: the lists'
@@ -292,6 +456,119 @@ fn finite_supports<T: Real>(segments: &[ScalisSegment<T>]) -> bool {
     }
     true
 }
+
+/// Where [`trace_scalis_resume_in`] resumes: the pre-segmented
+/// processing's loop state ([`ScalisWalk`]) and its explicit interval
+/// stack. `#[repr(C)]`, with no `bool` or enum field, so that a GPU keeps
+/// one per pixel in a storage buffer; all zeros
+/// ([`start`](Self::start)) is a trace not begun.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C)]
+pub struct ScalisState<T> {
+    /// Everything but the stack.
+    pub walk: ScalisWalk<T>,
+    /// The intervals still to examine, `stack[..walk.sp]` (each a pair of
+    /// end points with their enclosures), the next one last.
+    pub stack: [[ScalisPoint<T>; 2]; STACK_CAPACITY],
+}
+
+impl<T: Real> ScalisState<T> {
+    /// The state before the first iteration (all zeros).
+    pub fn start() -> Self {
+        let zero = ScalisPoint::new(T::ZERO, Interval::point(T::ZERO));
+        Self {
+            walk: ScalisWalk {
+                started: 0,
+                in_region: 0,
+                first: 0,
+                next: 0,
+                region: [T::ZERO; 2],
+                roots: 0,
+                stats: RayStats::default(),
+                sp: 0,
+                cur_pending: 0,
+                kind: PENDING_START,
+                nreq: 0,
+                req: [T::ZERO; 2],
+                fix: [0; 2],
+                cur: zero,
+                split: [zero; 2],
+            },
+            stack: [[zero; 2]; STACK_CAPACITY],
+        }
+    }
+}
+
+/// The loop state of [`ScalisState`] but its stack (`#[repr(C)]`, flags
+/// as `u32`): where the trace is in the ray's list of hits, the covered
+/// region being processed, the roots and counters so far, and the points
+/// the last iteration asked for (evaluated at the top of the next one).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C)]
+pub struct ScalisWalk<T> {
+    /// `1` once the segments' supports were checked (the first
+    /// iteration).
+    pub started: u32,
+    /// `1` while a covered region is processed.
+    pub in_region: u32,
+    /// The region's first hit, relative to the ray's list.
+    pub first: u32,
+    /// The hit after the region's last, relative to the ray's list: where
+    /// the next region starts.
+    pub next: u32,
+    /// The region `[r0, r1]` (clipped to the span).
+    pub region: [T; 2],
+    /// Roots registered so far.
+    pub roots: u32,
+    /// The counters so far.
+    pub stats: RayStats,
+    /// The stack's height.
+    pub sp: u32,
+    /// `1` while the cursor's point is not yet evaluated.
+    pub cur_pending: u32,
+    /// What the requested points are for: [`PENDING_START`],
+    /// [`PENDING_SPLIT`] or [`PENDING_TOUCH_END`].
+    pub kind: u32,
+    /// How many points are requested, `req[..nreq]`.
+    pub nreq: u32,
+    /// The requested points.
+    pub req: [T; 2],
+    /// [`PENDING_TOUCH_END`]: whether the stack's top interval's start and
+    /// the cursor move to the requested point.
+    pub fix: [u32; 2],
+    /// The cursor: where the next pre-segmented interval starts.
+    pub cur: ScalisPoint<T>,
+    /// [`PENDING_SPLIT`]: the interval cut at the requested points.
+    pub split: [ScalisPoint<T>; 2],
+}
+
+impl<T: Real> ScalisWalk<T> {
+    /// Starts processing the covered region `r` (its hits were set).
+    fn start_region(&mut self, r: [T; 2]) {
+        let origin = ScalisPoint::new(r[0], Interval::point(T::ZERO));
+        self.in_region = 1;
+        self.region = r;
+        self.sp = 0;
+        self.cur = origin;
+        self.cur_pending = 1;
+        self.kind = PENDING_START;
+        self.req = [r[0]; 2];
+        self.nreq = 0;
+        self.split = [origin; 2];
+        self.fix = [0; 2];
+    }
+}
+
+/// [`ScalisWalk::kind`]: the cursor's point (when not yet evaluated) and
+/// the next argmin's, which start a pre-segmented interval (none: nothing
+/// to evaluate).
+pub const PENDING_START: u32 = 0;
+/// [`ScalisWalk::kind`]: the cuts of [`ScalisWalk::split`], pushed as
+/// sub-intervals.
+pub const PENDING_SPLIT: u32 = 1;
+/// [`ScalisWalk::kind`]: the end of a touch, for the stack's top interval
+/// and the cursor ([`ScalisWalk::fix`]).
+pub const PENDING_TOUCH_END: u32 = 2;
 
 /// Where the Lipschitz constant of SCALIS sphere tracing
 /// ([`trace_scalis_sphere`]) is valid.
@@ -396,12 +673,14 @@ struct HitRange {
     end: usize,
 }
 
-/// Whether [`process_region`] goes on, or stops with `trace` (a struct
-/// rather than `Result<(), Trace>`: rust-gpu 0.11 cannot move a `Trace`
-/// out of an enum).
+/// Whether an iteration of [`region_iteration`] goes on, ends its region
+/// (`done`), or stops tracing with `trace` (a struct rather than
+/// `Result<(), Trace>`: rust-gpu 0.11 cannot move a `Trace` out of an
+/// enum).
 #[derive(Clone, Copy)]
 struct Flow<T> {
     stop: bool,
+    done: bool,
     trace: Trace<T>,
 }
 
@@ -409,6 +688,7 @@ impl<T: Real> Flow<T> {
     fn go() -> Self {
         Self {
             stop: false,
+            done: false,
             trace: Trace {
                 roots: 0,
                 status: Status::Finished,
@@ -417,8 +697,18 @@ impl<T: Real> Flow<T> {
             },
         }
     }
+    fn done() -> Self {
+        Self {
+            done: true,
+            ..Self::go()
+        }
+    }
     fn stop(trace: Trace<T>) -> Self {
-        Self { stop: true, trace }
+        Self {
+            stop: true,
+            done: false,
+            trace,
+        }
     }
 }
 
@@ -430,23 +720,30 @@ struct Ctx<'a, T> {
     ray: &'a Ray<T>,
 }
 
-/// A point of the ray with the field's enclosure and, once computed
-/// (`has_herm`), the Hermite data `herm = (G, G')` of the normalized field.
-#[derive(Clone, Copy)]
-struct Pt<T> {
-    t: T,
-    f: Interval<T>,
-    has_herm: bool,
-    herm: [T; 2],
+/// A point of the ray with an enclosure of `iso − f` there and, once
+/// computed (`has_herm == 1`), the Hermite data `herm = (G, G')` of the
+/// normalized field (`#[repr(C)]`, 6 words: an entry of
+/// [`ScalisState::stack`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C)]
+pub struct ScalisPoint<T> {
+    /// The ray parameter.
+    pub t: T,
+    /// The enclosure of `iso − f(t)`.
+    pub f: Interval<T>,
+    /// `1` when `herm` holds the Hermite data.
+    pub has_herm: u32,
+    /// `(G, G')` at `t`.
+    pub herm: [T; 2],
 }
 
-impl<T: Real> Pt<T> {
+impl<T: Real> ScalisPoint<T> {
     /// `t` with the enclosure `f`, no Hermite data yet.
     fn new(t: T, f: Interval<T>) -> Self {
         Self {
             t,
             f,
-            has_herm: false,
+            has_herm: 0,
             herm: [T::ZERO; 2],
         }
     }
@@ -561,7 +858,13 @@ impl<T: Real> Ctx<'_, T> {
     /// ([`bounds::taylor_model_slope`]) that excludes `0` (a monotone
     /// field). The tight stage runs with one piece per primitive, then,
     /// when [`FINE_GAIN`] says it may decide, with [`FINE_PIECES`].
-    fn root_free(&self, hits: HitRange, a: &Pt<T>, b: &Pt<T>, stats: &mut RayStats) -> bool {
+    fn root_free(
+        &self,
+        hits: HitRange,
+        a: &ScalisPoint<T>,
+        b: &ScalisPoint<T>,
+        stats: &mut RayStats,
+    ) -> bool {
         let mut r = self.range(hits, a.t, b.t, stats);
         if !r.contains(T::ZERO) {
             return true;
@@ -770,267 +1073,270 @@ pub(crate) fn oracle<T: Real>(a: T, b: T, ga: T, da: T, gb: T, db: T, weight: T)
     None
 }
 
-/// The pre-segmented processing of one covered region `[r0, r1]` whose hits
-/// are `ctx.hits[hits.start..hits.end]` (module docs). Roots go to `w`; a
-/// stopping [`Flow`] carries the final record when tracing stops.
-fn process_region<T: Real>(
+/// One iteration of the pre-segmented processing of the covered region
+/// `s.walk.region = [r0, r1]` whose hits are `ctx.hits[hits.start..hits.end]`
+/// (module docs): the points the previous iteration asked for are
+/// evaluated (all at this one call site: a GPU driver inlines every call)
+/// and applied, then the next interval is taken from the stack and decided,
+/// split or reported. Roots go to `w`; the [`Flow`] says whether the region
+/// is done or tracing stops (with the final record).
+fn region_iteration<T: Real>(
     ctx: &Ctx<'_, T>,
-    [r0, r1]: [T; 2],
+    s: &mut ScalisState<T>,
     hits: HitRange,
     params: &Params<T>,
     split: Split,
     w: &mut Walk<'_, T>,
 ) -> Flow<T> {
-    if hits.start >= hits.end {
-        return Flow::go();
-    }
     let eps = params.eps;
     let fine = eps / T::from_f64(f64::from(1u32 << TOUCH_DEPTH));
     let delta = eps * T::from_f64(0.45);
     let refine = eps * T::from_f64(REFINE_EPS);
-    let origin = Pt::new(r0, Interval::point(T::ZERO));
-    let mut stack = [(origin, origin); STACK_CAPACITY];
-    let mut sp = 0usize;
-    // The cursor: where the next pre-segmented interval starts (its point
-    // is evaluated with the first interval's end).
-    let mut cur = origin;
-    let mut cur_pending = true;
-    // The points an iteration asks for are evaluated at the top of the
-    // next one, all at one call site (a GPU driver inlines every call):
-    // `kind` says what they are for, `req[..nreq]` where they are.
-    let mut kind = Pending::Start;
-    let mut req = [r0; 2];
-    let mut nreq = 0usize;
-    // `Pending::Split`: the interval `[split_a, split_b]` cut at the
-    // requested points; `Pending::TouchEnd`: which of the stack's top
-    // interval start and the cursor move to the requested point.
-    let (mut split_a, mut split_b) = (origin, origin);
-    let (mut fix_top, mut fix_cur) = (false, false);
-    loop {
-        let mut vals = [origin; 2];
+    let origin = ScalisPoint::new(s.walk.region[0], Interval::point(T::ZERO));
+    let mut sp = s.walk.sp as usize;
+    let nreq = s.walk.nreq as usize;
+    let mut vals = [origin; 2];
+    let mut q = 0;
+    while q < nreq {
+        w.stats.field_evals += 1;
+        let t = s.walk.req[q];
+        vals[q] = ScalisPoint::new(t, ctx.value(hits, t));
+        q += 1;
+    }
+    let kind = s.walk.kind;
+    if kind == PENDING_START {
+        if nreq > 0 {
+            let mut q = 0;
+            if s.walk.cur_pending != 0 {
+                s.walk.cur = vals[0];
+                s.walk.cur_pending = 0;
+                q = 1;
+            }
+            if q < nreq {
+                let nb = vals[q];
+                s.stack[0] = [s.walk.cur, nb];
+                sp = 1;
+                s.walk.cur = nb;
+            }
+        }
+    } else if kind == PENDING_SPLIT {
+        let mut right = s.walk.split[1];
+        let mut k = nreq;
+        while k > 0 {
+            k -= 1;
+            let p = vals[k];
+            s.stack[sp] = [p, right];
+            sp += 1;
+            right = p;
+        }
+        s.stack[sp] = [s.walk.split[0], right];
+        sp += 1;
+    } else {
+        // PENDING_TOUCH_END
         let mut q = 0;
-        while q < nreq {
-            w.stats.field_evals += 1;
-            vals[q] = Pt::new(req[q], ctx.value(hits, req[q]));
+        if s.walk.fix[0] != 0 {
+            s.stack[sp - 1][0] = vals[q];
             q += 1;
         }
-        match kind {
-            Pending::Start => {
-                if nreq > 0 {
-                    let mut q = 0;
-                    if cur_pending {
-                        cur = vals[0];
-                        cur_pending = false;
-                        q = 1;
-                    }
-                    if q < nreq {
-                        let nb = vals[q];
-                        stack[0] = (cur, nb);
-                        sp = 1;
-                        cur = nb;
-                    }
-                }
-            }
-            Pending::Split => {
-                let mut right = split_b;
-                let mut k = nreq;
-                while k > 0 {
-                    k -= 1;
-                    let p = vals[k];
-                    stack[sp] = (p, right);
-                    sp += 1;
-                    right = p;
-                }
-                stack[sp] = (split_a, right);
-                sp += 1;
-            }
-            Pending::TouchEnd => {
-                let mut q = 0;
-                if fix_top {
-                    stack[sp - 1].0 = vals[q];
-                    q += 1;
-                }
-                if fix_cur {
-                    cur = vals[q];
-                }
-            }
+        if s.walk.fix[1] != 0 {
+            s.walk.cur = vals[q];
         }
-        kind = Pending::Start;
-        nreq = 0;
-        if sp == 0 {
-            if cur_pending {
-                req[0] = cur.t;
-                nreq = 1;
-                continue;
-            }
-            if !(cur.t < r1) {
-                return Flow::go();
-            }
-            // the next argmin after the cursor (pre-segmentation, §1.3)
-            let mut next = r1;
-            let mut k = hits.start;
-            while k < hits.end {
-                let argmin = ctx.hits[k].argmin;
-                k += 1;
-                if argmin > cur.t + eps && argmin < next - eps {
-                    next = argmin;
-                }
-            }
-            req[0] = next;
-            nreq = 1;
-            continue;
-        }
-        sp -= 1;
-        let (mut a, mut b) = stack[sp];
-        if w.stats.steps >= params.max_steps {
-            return Flow::stop(w.done(Status::MaxSteps, a.t));
-        }
-        w.stats.steps += 1;
-        let len = b.t - a.t;
-        let mid = a.t + len * T::HALF;
-        let splittable = mid > a.t && mid < b.t && sp + 3 <= STACK_CAPACITY;
-        let leaf = !(len > eps) || !splittable;
-        // a leaf with a sign change is a crossing without further proof
-        // (a flag and a side, not an `Option`: no niche-encoded value on a
-        // GPU)
-        let (ia, ib) = (inside(a.f), inside(b.f));
-        let crossing = ia != ib;
-        let crossing_side = if ib { Side::Entering } else { Side::Leaving };
-        let crossing_leaf = leaf && crossing;
-        if !crossing_leaf && ctx.root_free(hits, &a, &b, &mut w.stats) {
-            continue;
-        }
-        if leaf {
-            // A leaf: a crossing, or (after halving below eps) a touch.
-            let side = if crossing {
-                crossing_side
-            } else {
-                if splittable && len > fine {
-                    // halve it (evaluated at the next iteration's top)
-                    kind = Pending::Split;
-                    req[0] = mid;
-                    nreq = 1;
-                    (split_a, split_b) = (a, b);
-                    continue;
-                }
-                Side::Touch
-            };
-            let t = if a.f.contains(T::ZERO) { a.t } else { mid };
-            let next = w.register(Root { t, side }, a.t);
-            if next.stop {
-                return Flow::stop(next.trace);
-            }
-            if side == Side::Touch {
-                // the rest of this contact, up to t + eps, is the same root
-                let end = (t + eps).min(r1);
-                while sp > 0 && stack[sp - 1].1.t <= end {
-                    sp -= 1;
-                }
-                fix_top = sp > 0 && stack[sp - 1].0.t < end;
-                fix_cur = cur.t < end;
-                if fix_top || fix_cur {
-                    kind = Pending::TouchEnd;
-                    req = [end; 2];
-                    nreq = usize::from(fix_top) + usize::from(fix_cur);
-                }
-            }
-            continue;
-        }
-        let (sa, sb) = (sign_of(a.f), sign_of(b.f));
-        let bracketed = sa * sb < 0;
-        let use_oracle = match split {
-            Split::Oracle => true,
-            Split::Bisection => bracketed && len <= refine,
-        };
-        // the predicted root, NaN for none
-        let mut guess = T::nan();
-        if use_oracle {
-            // the Hermite data of both ends, from one call site
-            let ends = [a, b];
-            let mut herm = [[T::ZERO; 2]; 2];
-            let mut e = 0;
-            while e < 2 {
-                herm[e] = if ends[e].has_herm {
-                    ends[e].herm
-                } else {
-                    w.stats.field_evals += 1;
-                    ctx.hermite(hits, ends[e].t)
-                };
-                e += 1;
-            }
-            (a.herm, b.herm) = (herm[0], herm[1]);
-            (a.has_herm, b.has_herm) = (true, true);
-            let [ga, da] = a.herm;
-            let [gb, db] = b.herm;
-            let weight = if bracketed {
-                T::ONE
-            } else {
-                T::from_f64(ORACLE_WEIGHT)
-            };
-            let g = match oracle(a.t, b.t, ga, da, gb, db, weight) {
-                Some(t) => t,
-                None => T::nan(),
-            };
-            // Before a sign change, the Newton step from the left end where
-            // it lies further than the oracle's root: on a long interval
-            // the far end's Hermite data pull the interpolant's root short
-            // of a near-linear approach, one short guess after another.
-            let mut newton = T::nan();
-            if !bracketed && ga * da < T::ZERO {
-                let t = a.t - ga / da;
-                if t > a.t && t < b.t {
-                    newton = t;
-                }
-            }
-            guess = if g.is_nan() {
-                newton
-            } else if newton.is_nan() {
-                g
-            } else {
-                g.max(newton)
-            };
-        }
-        // split at t_root ± δ (both, one or none of them inside), else at
-        // the midpoint
-        let mut cuts = [mid; 2];
-        let mut nc = 1;
-        if guess > a.t && guess < b.t {
-            let g = guess;
-            let (u, v) = (round::sub_down(g, delta), round::add_down(g, delta));
-            nc = 0;
-            let uv = [u, v];
-            let mut q = 0;
-            while q < 2 {
-                let c = uv[q];
-                q += 1;
-                if c > a.t && c < b.t && (nc == 0 || c > cuts[0]) {
-                    cuts[nc] = c;
-                    nc += 1;
-                }
-            }
-            if nc == 0 {
-                cuts[0] = g;
-                nc = 1;
-            }
-        }
-        kind = Pending::Split;
-        req = cuts;
-        nreq = nc;
-        (split_a, split_b) = (a, b);
     }
+    s.walk.kind = PENDING_START;
+    s.walk.nreq = 0;
+    let flow = region_decide(
+        ctx,
+        s,
+        &mut sp,
+        hits,
+        params,
+        split,
+        w,
+        [fine, delta, refine],
+    );
+    s.walk.sp = sp as u32;
+    flow
 }
 
-/// What the points requested by one iteration of [`process_region`] are
-/// for (they are evaluated at the top of the next one).
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Pending {
-    /// The cursor's point (when not yet evaluated) and the next argmin's,
-    /// which start a pre-segmented interval (none: nothing to evaluate).
-    Start,
-    /// The cuts of `[split_a, split_b]`, pushed as sub-intervals.
-    Split,
-    /// The end of a touch, for the stack's top interval and the cursor.
-    TouchEnd,
+/// The second half of [`region_iteration`]: with the stack's height `sp`,
+/// the next interval, or the next pre-segmented one when the stack is
+/// empty (or the region's end).
+#[allow(clippy::too_many_arguments)]
+fn region_decide<T: Real>(
+    ctx: &Ctx<'_, T>,
+    s: &mut ScalisState<T>,
+    sp: &mut usize,
+    hits: HitRange,
+    params: &Params<T>,
+    split: Split,
+    w: &mut Walk<'_, T>,
+    [fine, delta, refine]: [T; 3],
+) -> Flow<T> {
+    let r1 = s.walk.region[1];
+    let eps = params.eps;
+    if *sp == 0 {
+        if s.walk.cur_pending != 0 {
+            s.walk.req[0] = s.walk.cur.t;
+            s.walk.nreq = 1;
+            return Flow::go();
+        }
+        let cur = s.walk.cur.t;
+        if !(cur < r1) {
+            return Flow::done();
+        }
+        // the next argmin after the cursor (pre-segmentation, §1.3)
+        let mut next = r1;
+        let mut k = hits.start;
+        while k < hits.end {
+            let argmin = ctx.hits[k].argmin;
+            k += 1;
+            if argmin > cur + eps && argmin < next - eps {
+                next = argmin;
+            }
+        }
+        s.walk.req[0] = next;
+        s.walk.nreq = 1;
+        return Flow::go();
+    }
+    *sp -= 1;
+    let [mut a, mut b] = s.stack[*sp];
+    if w.stats.steps >= params.max_steps {
+        return Flow::stop(w.done(Status::MaxSteps, a.t));
+    }
+    w.stats.steps += 1;
+    let len = b.t - a.t;
+    let mid = a.t + len * T::HALF;
+    let splittable = mid > a.t && mid < b.t && *sp + 3 <= STACK_CAPACITY;
+    let leaf = !(len > eps) || !splittable;
+    // a leaf with a sign change is a crossing without further proof
+    // (a flag and a side, not an `Option`: no niche-encoded value on a
+    // GPU)
+    let (ia, ib) = (inside(a.f), inside(b.f));
+    let crossing = ia != ib;
+    let crossing_side = if ib { Side::Entering } else { Side::Leaving };
+    let crossing_leaf = leaf && crossing;
+    if !crossing_leaf && ctx.root_free(hits, &a, &b, &mut w.stats) {
+        return Flow::go();
+    }
+    if leaf {
+        // A leaf: a crossing, or (after halving below eps) a touch.
+        let side = if crossing {
+            crossing_side
+        } else {
+            if splittable && len > fine {
+                // halve it (evaluated at the next iteration's top)
+                s.walk.kind = PENDING_SPLIT;
+                s.walk.req[0] = mid;
+                s.walk.nreq = 1;
+                s.walk.split = [a, b];
+                return Flow::go();
+            }
+            Side::Touch
+        };
+        let t = if a.f.contains(T::ZERO) { a.t } else { mid };
+        let next = w.register(Root { t, side }, a.t);
+        if next.stop {
+            return Flow::stop(next.trace);
+        }
+        if side == Side::Touch {
+            // the rest of this contact, up to t + eps, is the same root
+            let end = (t + eps).min(r1);
+            while *sp > 0 && s.stack[*sp - 1][1].t <= end {
+                *sp -= 1;
+            }
+            let fix_top = *sp > 0 && s.stack[*sp - 1][0].t < end;
+            let fix_cur = s.walk.cur.t < end;
+            if fix_top || fix_cur {
+                s.walk.kind = PENDING_TOUCH_END;
+                s.walk.req = [end; 2];
+                s.walk.nreq = u32::from(fix_top) + u32::from(fix_cur);
+                s.walk.fix = [u32::from(fix_top), u32::from(fix_cur)];
+            }
+        }
+        return Flow::go();
+    }
+    let (sa, sb) = (sign_of(a.f), sign_of(b.f));
+    let bracketed = sa * sb < 0;
+    let use_oracle = match split {
+        Split::Oracle => true,
+        Split::Bisection => bracketed && len <= refine,
+    };
+    // the predicted root, NaN for none
+    let mut guess = T::nan();
+    if use_oracle {
+        // the Hermite data of both ends, from one call site
+        let ends = [a, b];
+        let mut herm = [[T::ZERO; 2]; 2];
+        let mut e = 0;
+        while e < 2 {
+            herm[e] = if ends[e].has_herm != 0 {
+                ends[e].herm
+            } else {
+                w.stats.field_evals += 1;
+                ctx.hermite(hits, ends[e].t)
+            };
+            e += 1;
+        }
+        (a.herm, b.herm) = (herm[0], herm[1]);
+        (a.has_herm, b.has_herm) = (1, 1);
+        let [ga, da] = a.herm;
+        let [gb, db] = b.herm;
+        let weight = if bracketed {
+            T::ONE
+        } else {
+            T::from_f64(ORACLE_WEIGHT)
+        };
+        let g = match oracle(a.t, b.t, ga, da, gb, db, weight) {
+            Some(t) => t,
+            None => T::nan(),
+        };
+        // Before a sign change, the Newton step from the left end where
+        // it lies further than the oracle's root: on a long interval
+        // the far end's Hermite data pull the interpolant's root short
+        // of a near-linear approach, one short guess after another.
+        let mut newton = T::nan();
+        if !bracketed && ga * da < T::ZERO {
+            let t = a.t - ga / da;
+            if t > a.t && t < b.t {
+                newton = t;
+            }
+        }
+        guess = if g.is_nan() {
+            newton
+        } else if newton.is_nan() {
+            g
+        } else {
+            g.max(newton)
+        };
+    }
+    // split at t_root ± δ (both, one or none of them inside), else at
+    // the midpoint
+    let mut cuts = [mid; 2];
+    let mut nc = 1;
+    if guess > a.t && guess < b.t {
+        let g = guess;
+        let (u, v) = (round::sub_down(g, delta), round::add_down(g, delta));
+        nc = 0;
+        let uv = [u, v];
+        let mut q = 0;
+        while q < 2 {
+            let c = uv[q];
+            q += 1;
+            if c > a.t && c < b.t && (nc == 0 || c > cuts[0]) {
+                cuts[nc] = c;
+                nc += 1;
+            }
+        }
+        if nc == 0 {
+            cuts[0] = g;
+            nc = 1;
+        }
+    }
+    s.walk.kind = PENDING_SPLIT;
+    s.walk.req = cuts;
+    s.walk.nreq = nc as u32;
+    s.walk.split = [a, b];
+    Flow::go()
 }
 
 /// A window of the ray as a [`Field`]: the sum over its hits (support-box
@@ -1277,7 +1583,7 @@ mod tests {
                 start: 0,
                 end: list.hits().len(),
             };
-            let pt = |t: f64| Pt::new(t, ctx.value(all, t));
+            let pt = |t: f64| ScalisPoint::new(t, ctx.value(all, t));
             for len in [0.5, 0.1, 0.02, 0.004] {
                 let n = (6.0 / len) as u32;
                 for i in 0..n {
@@ -1310,6 +1616,178 @@ mod tests {
         for (g, e) in got.iter().zip(expect) {
             assert!((g.t - e.0).abs() <= 2.0 * eps, "{what}: {g:?} vs {e:?}");
             assert_eq!(g.side, e.1, "{what}");
+        }
+    }
+
+    /// A guard that pauses before every `every`-th iteration and rejects
+    /// iterations after they ran (the driver's loop limit) at pseudo-random.
+    struct Chaos {
+        seed: u64,
+        every: u32,
+        calls: u32,
+        rejected: u32,
+    }
+
+    impl StepGuard for Chaos {
+        fn before_step(&mut self, _steps: u32) -> bool {
+            self.calls += 1;
+            self.calls % self.every != 0
+        }
+        fn after_step(&mut self) -> bool {
+            self.seed ^= self.seed << 13;
+            self.seed ^= self.seed >> 7;
+            self.seed ^= self.seed << 17;
+            let ok = self.seed % 3 != 0;
+            self.rejected += u32::from(!ok);
+            ok
+        }
+    }
+
+    /// The legs of a trace, paused and undone at random, give the
+    /// uninterrupted trace's roots, record and counters exactly, in both
+    /// modes, for both methods, with small root windows (buffer full) and
+    /// a step limit; a leg whose every iteration is rejected changes
+    /// nothing.
+    #[test]
+    fn resumed_legs_give_the_uninterrupted_trace() {
+        let sk = skeleton();
+        let span = [0.0, 6.0];
+        let mut rejected = 0;
+        let mut max_legs = 0;
+        let rays = RAYS.into_iter().chain([
+            ([-2.0, 1.16, 0.0], [1.0, 0.0, 0.0]),
+            ([2.0, -3.0, 0.1], [0.0, 1.0, 0.02]),
+            ([-1.0, 1.3, -0.3], [1.0, 0.05, 0.1]),
+        ]);
+        for (o, d) in rays {
+            let ray = Ray::new(o, d);
+            let mut store = [PrimitiveHit::empty(); 8];
+            let list = RayPrimitives::build(sk.segments(), &ray, span, &mut store);
+            assert!(!list.overflowed());
+            let hits = list.hits().to_vec();
+            for method in [Method::ScalisQuadratic, Method::Interval] {
+                for mode in [Mode::Transparent, Mode::Opaque] {
+                    for (cap, max_steps) in [(16, 100_000), (1, 100_000), (16, 12)] {
+                        let mut params = Params::new();
+                        params.max_steps = max_steps;
+                        let args = (sk.segments(), sk.iso(), &hits[..], [0, hits.len()]);
+                        let mut whole = [NONE; 16];
+                        let once = trace_scalis_in(
+                            args.0,
+                            args.1,
+                            args.2,
+                            args.3,
+                            &ray,
+                            span,
+                            method,
+                            mode,
+                            &params,
+                            &mut whole,
+                            [0, cap],
+                        );
+                        for every in [2, 3, 7] {
+                            let mut guard = Chaos {
+                                seed: 0x9e37_79b9_7f4a_7c15 ^ u64::from(every),
+                                every,
+                                calls: 0,
+                                rejected: 0,
+                            };
+                            let mut state = ScalisState::start();
+                            let mut roots = [NONE; 16];
+                            let mut legs = 0;
+                            let last = loop {
+                                legs += 1;
+                                assert!(legs < 100_000, "no progress");
+                                let leg = trace_scalis_resume_in(
+                                    args.0,
+                                    args.1,
+                                    args.2,
+                                    args.3,
+                                    &ray,
+                                    span,
+                                    method,
+                                    mode,
+                                    &params,
+                                    &mut roots,
+                                    [0, cap],
+                                    &mut state,
+                                    &mut guard,
+                                );
+                                if !leg.paused {
+                                    break leg.trace;
+                                }
+                            };
+                            let what = format!("{method} {mode:?} cap {cap} every {every}");
+                            assert_eq!(last, once, "{what}");
+                            let n = once.roots as usize;
+                            assert_eq!(roots[..n], whole[..n], "{what}");
+                            rejected += guard.rejected;
+                            max_legs = max_legs.max(legs);
+                        }
+                    }
+                }
+            }
+        }
+        assert!(rejected > 100 && max_legs > 20, "{rejected} {max_legs}");
+        // Every iteration rejected: the state does not move.
+        struct Never;
+        impl StepGuard for Never {
+            fn before_step(&mut self, _: u32) -> bool {
+                true
+            }
+            fn after_step(&mut self) -> bool {
+                false
+            }
+        }
+        let ray = Ray::new(RAYS[0].0, RAYS[0].1);
+        let mut store = [PrimitiveHit::empty(); 8];
+        let hits = RayPrimitives::build(sk.segments(), &ray, span, &mut store)
+            .hits()
+            .to_vec();
+        let mut state = ScalisState::start();
+        let mut roots = [NONE; 4];
+        for _ in 0..40 {
+            let mut guard = Chaos {
+                seed: 7,
+                every: 1 << 30,
+                calls: 0,
+                rejected: 0,
+            };
+            let _ = trace_scalis_resume_in(
+                sk.segments(),
+                sk.iso(),
+                &hits,
+                [0, hits.len()],
+                &ray,
+                span,
+                Method::ScalisQuadratic,
+                Mode::Transparent,
+                &Params::new(),
+                &mut roots,
+                [0, 4],
+                &mut state,
+                &mut guard,
+            );
+            let before = state;
+            let leg = trace_scalis_resume_in(
+                sk.segments(),
+                sk.iso(),
+                &hits,
+                [0, hits.len()],
+                &ray,
+                span,
+                Method::ScalisQuadratic,
+                Mode::Transparent,
+                &Params::new(),
+                &mut roots,
+                [0, 4],
+                &mut state,
+                &mut Never,
+            );
+            if !leg.paused {
+                break;
+            }
+            assert_eq!(state, before);
         }
     }
 

@@ -1,0 +1,10 @@
+/work/main/crates/gpu-shader/target/debug/build/spirv-std-macros/95e6934ef8f1dac9/out/spirv_std_macros-95e6934ef8f1dac9.d: /root/.cargo/registry/src/index.crates.io-1949cf8c6b5b557f/spirv-std-macros-0.11.0/src/lib.rs /root/.cargo/registry/src/index.crates.io-1949cf8c6b5b557f/spirv-std-macros-0.11.0/src/debug_printf.rs /root/.cargo/registry/src/index.crates.io-1949cf8c6b5b557f/spirv-std-macros-0.11.0/src/image.rs /root/.cargo/registry/src/index.crates.io-1949cf8c6b5b557f/spirv-std-macros-0.11.0/src/sample_param_permutations.rs /root/.cargo/registry/src/index.crates.io-1949cf8c6b5b557f/spirv-std-macros-0.11.0/src/scalar_or_vector_composite.rs /root/.cargo/registry/src/index.crates.io-1949cf8c6b5b557f/spirv-std-macros-0.11.0/src/../README.md
+
+/work/main/crates/gpu-shader/target/debug/build/spirv-std-macros/95e6934ef8f1dac9/out/libspirv_std_macros-95e6934ef8f1dac9.so: /root/.cargo/registry/src/index.crates.io-1949cf8c6b5b557f/spirv-std-macros-0.11.0/src/lib.rs /root/.cargo/registry/src/index.crates.io-1949cf8c6b5b557f/spirv-std-macros-0.11.0/src/debug_printf.rs /root/.cargo/registry/src/index.crates.io-1949cf8c6b5b557f/spirv-std-macros-0.11.0/src/image.rs /root/.cargo/registry/src/index.crates.io-1949cf8c6b5b557f/spirv-std-macros-0.11.0/src/sample_param_permutations.rs /root/.cargo/registry/src/index.crates.io-1949cf8c6b5b557f/spirv-std-macros-0.11.0/src/scalar_or_vector_composite.rs /root/.cargo/registry/src/index.crates.io-1949cf8c6b5b557f/spirv-std-macros-0.11.0/src/../README.md
+
+/root/.cargo/registry/src/index.crates.io-1949cf8c6b5b557f/spirv-std-macros-0.11.0/src/lib.rs:
+/root/.cargo/registry/src/index.crates.io-1949cf8c6b5b557f/spirv-std-macros-0.11.0/src/debug_printf.rs:
+/root/.cargo/registry/src/index.crates.io-1949cf8c6b5b557f/spirv-std-macros-0.11.0/src/image.rs:
+/root/.cargo/registry/src/index.crates.io-1949cf8c6b5b557f/spirv-std-macros-0.11.0/src/sample_param_permutations.rs:
+/root/.cargo/registry/src/index.crates.io-1949cf8c6b5b557f/spirv-std-macros-0.11.0/src/scalar_or_vector_composite.rs:
+/root/.cargo/registry/src/index.crates.io-1949cf8c6b5b557f/spirv-std-macros-0.11.0/src/../README.md:
