@@ -76,8 +76,12 @@
 //! per-ray primitive lists (the A-buffer of thesis Part III §1.5) are
 //! built on the host ([`PrimitiveLists`]) and uploaded with the segments;
 //! the kernel is the tracer's
-//! [`trace_scalis_in`](boundtrace_tracer::scalis::trace_scalis_in), and on
-//! the host it gives the CPU renderer's frames bit for bit (unit test). The
+//! [`trace_scalis_resume_in`](boundtrace_tracer::scalis::trace_scalis_resume_in),
+//! in resumable legs like the other leg methods (each pixel's interval
+//! stack in its [`ScalisLeg`], 3,224 bytes: a frame of more pixels than
+//! the device binds in one buffer is refused), and on the host it gives
+//! the CPU renderer's frames bit for bit, in one leg or in legs of a few
+//! steps (unit test). The
 //! other methods (interval and affine on other scenes) live in the
 //! `trace_pixels` entry point
 //! ([`render_pixel`](boundtrace_gpu_kernel::render_pixel), shader feature
@@ -2345,6 +2349,8 @@ mod tests {
             SCALIS_LEG_WORDS,
             2 + core::mem::size_of::<boundtrace_tracer::scalis::ScalisState<f32>>() / 4
         );
+        // (the size the crate docs give)
+        assert_eq!(SCALIS_LEG_WORDS * 4, 3224);
         // The leg record: the tracer's state, then the phase and the roots
         // shaded (what the shader writes).
         assert_eq!(
