@@ -48,7 +48,7 @@ mod groups;
 mod scalis;
 
 pub use groups::FlatBlobGroups;
-pub use scalis::{ScalisLeg, render_scalis_leg};
+pub use scalis::{ScalisLeg, render_scalis_leg, render_scalis_tight_leg};
 
 use boundtrace_fields::AlgebraicPrimitives;
 use boundtrace_fields::blobtree::{BlobtreeRef, BlobtreeWindow};

@@ -10,7 +10,10 @@ use crate::{
 use boundtrace_fields::scalis::{ScalisSegment, ScalisSkeleton};
 use boundtrace_tracer::camera::ray_box_span;
 use boundtrace_tracer::pixel::PixelTrace;
-use boundtrace_tracer::scalis::{PrimitiveHit, ScalisState, trace_scalis_resume_in};
+use boundtrace_tracer::scalis::{
+    PrimitiveHit, ScalisState, TIGHT_REQUESTED, scalis_tight_resume_in,
+    trace_scalis_resume_deferred_in,
+};
 use boundtrace_tracer::{Method, RayStats, Root, Status, Trace};
 
 /// A SCALIS pixel's resumable trace between two dispatches
@@ -43,7 +46,7 @@ impl Default for ScalisLeg {
 
 /// One leg of pixel `(x, y)` of a SCALIS frame (the shader's
 /// `trace_scalis` entry point): the pixel's trace with
-/// [`trace_scalis_resume_in`] over its primitive list
+/// [`trace_scalis_resume_deferred_in`] over its primitive list
 /// `lists[offsets[i]..offsets[i + 1]]` (`i = y·width + x`) and the
 /// skeleton `segments` with [`Constants::iso`], then its hits with normals
 /// (the normal of the whole skeleton, as the CPU renderer computes it).
@@ -56,6 +59,13 @@ impl Default for ScalisLeg {
 /// uninterrupted [`trace_scalis_in`](boundtrace_tracer::scalis::trace_scalis_in)'s,
 /// bit for bit. Shading resumes root by root. A leg that cannot complete
 /// one iteration makes no progress: the host detects it.
+///
+/// The tight stage of an interval (the log-concave ranges and Taylor
+/// models, most of the tracer's code) is not here: the leg pauses with the
+/// interval in its state, and [`render_scalis_tight_leg`] (the shader's
+/// `trace_scalis_tight`, a pipeline of its own, dispatched after this one)
+/// gives its verdict. A host dispatches the two in turn until every pixel
+/// is done.
 ///
 /// [`Status::Unsupported`] for another method than `scalis-quadratic` or
 /// `interval`, another scene kind than [`SceneKind::Scalis`], bad constants
@@ -116,7 +126,7 @@ pub fn render_scalis_leg(
                 };
                 let mut guard =
                     LimitProbe::for_leg(c.guard_loops, c.leg_steps, leg.state.walk.stats.steps);
-                let r = trace_scalis_resume_in(
+                let r = trace_scalis_resume_deferred_in(
                     segments,
                     c.iso,
                     lists,
@@ -177,4 +187,53 @@ pub fn render_scalis_leg(
     if i >= roots_out {
         leg.phase = PHASE_DONE;
     }
+}
+
+/// The tight stage a [`render_scalis_leg`] leg of pixel `(x, y)` left in
+/// its state ([`scalis_tight_resume_in`]), in legs: the loop-limit probe
+/// after every hit of a pass, a step the limit cut undone. A pixel without
+/// a pending tight stage is left as it is. (The shader's
+/// `trace_scalis_tight` entry point: the same bindings as `trace_scalis`.)
+#[allow(clippy::too_many_arguments)]
+pub fn render_scalis_tight_leg(
+    c: &Constants,
+    offsets: &[u32],
+    lists: &[PrimitiveHit<f32>],
+    segments: &[ScalisSegment<f32>],
+    x: u32,
+    y: u32,
+    leg: &mut ScalisLeg,
+) {
+    if leg.phase != PHASE_TRACING || leg.state.walk.tight.status != TIGHT_REQUESTED {
+        return;
+    }
+    let pixel = y as usize * c.width as usize + x as usize;
+    if !c.codes_valid()
+        || c.scene != SceneKind::Scalis as u32
+        || x >= c.width
+        || y >= c.height
+        || pixel + 1 >= offsets.len()
+    {
+        return;
+    }
+    let setup = c.decode();
+    let ray = setup.camera.ray(x, y, setup.width, setup.height);
+    let first = offsets[pixel] as usize;
+    let last = offsets[pixel + 1] as usize;
+    // bad offsets: an out-of-range list (the verdict "not proven free")
+    let list = if first <= last {
+        [first, last - first]
+    } else {
+        [lists.len() + 1, 0]
+    };
+    let mut guard = LimitProbe::for_leg(c.guard_loops, 0, 0);
+    scalis_tight_resume_in(
+        segments,
+        c.iso,
+        lists,
+        list,
+        &ray,
+        &mut leg.state,
+        &mut guard,
+    );
 }

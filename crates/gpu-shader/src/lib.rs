@@ -26,10 +26,12 @@
 //!   inclusions from Taylor bounds), features `linear-taylor-blobs`, …:
 //!   each in a module of its own (`scripts/build-spirv.sh` builds all
 //!   eight);
-//! - `trace_scalis`: `scalis-quadratic` and the per-primitive `interval`
-//!   bisection on SCALIS skeletons (`render_scalis_leg`, over the frame's
-//!   primitive lists, built on the host), feature `scalis`, a module of its
-//!   own with other bindings 1–3 (list offsets, lists, segments);
+//! - `trace_scalis` and `trace_scalis_tight` (its intervals' tight
+//!   stages, a pipeline of its own): `scalis-quadratic` and the
+//!   per-primitive `interval` bisection on SCALIS skeletons
+//!   (`render_scalis_leg`, over the frame's primitive lists, built on the
+//!   host), feature `scalis`, a module of their own with other bindings
+//!   1–3 (list offsets, lists, segments) and 7 (`ScalisLeg`);
 //! - `trace_pixels`: every GPU method ([`render_pixel`]), feature `trace`
 //!   (`BOUNDTRACE_SHADER_FEATURES=trace scripts/build-spirv.sh`): it links,
 //!   but is too large for such a driver (BENCHMARKS.md "GPU").
@@ -484,6 +486,34 @@ pub fn trace_scalis(
         &c, offsets, lists, segments, id.x, id.y, roots, hits, base, &mut legs[i], &mut out,
     );
     pixels[i] = out;
+}
+
+/// The tight stages that `trace_scalis` legs left in their pixels' states
+/// (`render_scalis_tight_leg`), feature `scalis`: `trace_scalis`'s
+/// bindings, a pipeline of its own, dispatched after it.
+#[cfg(feature = "scalis")]
+#[allow(clippy::too_many_arguments)]
+#[spirv(compute(threads(8, 8)))]
+pub fn trace_scalis_tight(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] constants: &Constants,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] offsets: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] lists: &[PrimitiveHit<f32>],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] segments: &[ScalisSegment<f32>],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] _pixels: &mut [PixelOut],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] _hits: &mut [HitOut],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] _roots: &mut [Root<f32>],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] legs: &mut [ScalisLeg],
+) {
+    let c = *constants;
+    if id.x >= c.width || id.y >= c.height {
+        return;
+    }
+    let i = (id.y * c.width + id.x) as usize;
+    if i >= legs.len() {
+        return;
+    }
+    kernel::render_scalis_tight_leg(&c, offsets, lists, segments, id.x, id.y, &mut legs[i]);
 }
 
 /// The body of the tracing entry points: pixel `(id.x, id.y)` of the frame

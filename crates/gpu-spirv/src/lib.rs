@@ -78,7 +78,7 @@
 //! the kernel is the tracer's
 //! [`trace_scalis_resume_in`](boundtrace_tracer::scalis::trace_scalis_resume_in),
 //! in resumable legs like the other leg methods (each pixel's interval
-//! stack in its [`ScalisLeg`], 3,224 bytes: a frame of more pixels than
+//! stack in its [`ScalisLeg`], 3,344 bytes: a frame of more pixels than
 //! the device binds in one buffer is refused), and on the host it gives
 //! the CPU renderer's frames bit for bit, in one leg or in legs of a few
 //! steps (unit test). The
@@ -738,6 +738,9 @@ pub struct GpuTracer {
     /// use (a driver takes about as long as for `trace_sphere`: only the
     /// renders of that method and kind pay).
     legs: [OnceLock<Result<wgpu::ComputePipeline, String>>; LEG_MODULES],
+    /// [`SCALIS_TIGHT_ENTRY`]'s pipeline (dispatched after each
+    /// `trace_scalis` leg), created on first use.
+    scalis_tight: OnceLock<Result<wgpu::ComputePipeline, String>>,
     /// Held while a pipeline created on first use compiles, and, on a CPU
     /// adapter, during a pipeline's first dispatch (lavapipe compiles its
     /// machine code then, in gigabytes: one at a time).
@@ -793,6 +796,18 @@ pub struct RenderProfile {
 
 /// Words of a [`PixelLeg`].
 const LEG_WORDS: usize = core::mem::size_of::<PixelLeg>() / 4;
+
+/// The pipelines of a render: the tracing pipeline, whether it runs in
+/// legs, and the pipeline dispatched after each of its legs.
+type Pipelines<'a> = (
+    &'a wgpu::ComputePipeline,
+    bool,
+    Option<&'a wgpu::ComputePipeline>,
+);
+
+/// The entry point that runs the tight stages `trace_scalis` legs leave
+/// (dispatched after each of them, in the same module).
+pub const SCALIS_TIGHT_ENTRY: &str = "trace_scalis_tight";
 
 /// Words of a [`ScalisLeg`] (the SCALIS module's legs, with their
 /// interval stacks).
@@ -941,6 +956,7 @@ impl GpuTracer {
             layout,
             sphere: OnceLock::new(),
             legs: Default::default(),
+            scalis_tight: OnceLock::new(),
             compiling: std::sync::Mutex::new(()),
             dispatched: std::sync::Mutex::new(Vec::new()),
             general: OnceLock::new(),
@@ -999,23 +1015,20 @@ impl GpuTracer {
         all
     }
 
-    /// The pipeline that traces `method` on scenes of `kind`, and whether
-    /// it runs in legs: `trace_sphere` for sphere tracing, the leg entry
-    /// point of `method` and `kind` (in the main module of a custom build,
-    /// else in its leg module), else `trace_pixels`; all but the first
-    /// created on first use.
-    fn pipeline(
-        &self,
-        method: Method,
-        kind: SceneKind,
-    ) -> Result<(&wgpu::ComputePipeline, bool), GpuError> {
+    /// The pipeline that traces `method` on scenes of `kind`, whether
+    /// it runs in legs, and the pipeline dispatched after each of its legs
+    /// (SCALIS: [`SCALIS_TIGHT_ENTRY`]): `trace_sphere` for sphere tracing,
+    /// the leg entry point of `method` and `kind` (in the main module of a
+    /// custom build, else in its leg module), else `trace_pixels`; all but
+    /// the first created on first use.
+    fn pipeline(&self, method: Method, kind: SceneKind) -> Result<Pipelines<'_>, GpuError> {
         let unavailable = |why: String| GpuError::MethodUnavailable { method, why };
         let slot = leg_slot(method, kind);
         if method == Method::Sphere && slot.is_none() {
             return self
                 .lazy_pipeline(&self.sphere, &self.module, SPHERE_ENTRY)
                 .as_ref()
-                .map(|p| (p, true))
+                .map(|p| (p, true, None))
                 .map_err(|e| unavailable(e.clone()));
         }
         let entries = entry_points(&self.module);
@@ -1028,10 +1041,22 @@ impl GpuTracer {
                 self.leg_modules[slot].as_ref().filter(|m| has(m, &entry))
             };
             if let Some(module) = module {
+                let follow = if kind == SceneKind::Scalis {
+                    if !has(module, SCALIS_TIGHT_ENTRY) {
+                        return Err(unavailable(format!(
+                            "the module with `{entry}` lacks `{SCALIS_TIGHT_ENTRY}`: rebuild it \
+                             (BOUNDTRACE_SCALIS_MODULE=1 {BUILD_COMMAND})"
+                        )));
+                    }
+                    let p = self.lazy_pipeline(&self.scalis_tight, module, SCALIS_TIGHT_ENTRY);
+                    Some(p.as_ref().map_err(|e| unavailable(e.clone()))?)
+                } else {
+                    None
+                };
                 return self
                     .lazy_pipeline(&self.legs[slot], module, &entry)
                     .as_ref()
-                    .map(|p| (p, true))
+                    .map(|p| (p, true, follow))
                     .map_err(|e| unavailable(e.clone()));
             }
         }
@@ -1055,7 +1080,7 @@ impl GpuTracer {
         }
         self.lazy_pipeline(&self.general, &self.module, ENTRY)
             .as_ref()
-            .map(|p| (p, false))
+            .map(|p| (p, false, None))
             .map_err(|e| unavailable(e.clone()))
     }
 
@@ -1176,7 +1201,7 @@ impl GpuTracer {
                 settings.width, settings.height
             )));
         }
-        let (pipeline, resumable) = self.pipeline(settings.method, scene.kind)?;
+        let (pipeline, resumable, follow) = self.pipeline(settings.method, scene.kind)?;
         let c = Constants {
             leg_steps,
             ..scene.constants(camera, settings, slots)
@@ -1184,7 +1209,7 @@ impl GpuTracer {
         let n = settings.width as usize * settings.height as usize;
         let data = scene.buffers(camera, settings);
         let (pix_words, hit_words, dispatches, dispatch) = self.run(
-            pipeline,
+            (pipeline, follow),
             resumable,
             LegLayout::of(scene.kind),
             &c,
@@ -1232,7 +1257,7 @@ impl GpuTracer {
     #[allow(clippy::too_many_arguments)]
     fn run(
         &self,
-        pipeline: &wgpu::ComputePipeline,
+        (pipeline, follow): (&wgpu::ComputePipeline, Option<&wgpu::ComputePipeline>),
         resumable: bool,
         leg: LegLayout,
         c: &Constants,
@@ -1353,9 +1378,10 @@ impl GpuTracer {
             let scope = dev.push_error_scope(wgpu::ErrorFilter::Validation);
             let mut enc =
                 dev.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
-            {
+            // the leg, then (SCALIS) the tight stages it left, in order
+            for p in [Some(pipeline), follow].into_iter().flatten() {
                 let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
-                pass.set_pipeline(pipeline);
+                pass.set_pipeline(p);
                 pass.set_bind_group(0, &bind, &[]);
                 pass.dispatch_workgroups(
                     c.width.div_ceil(WORKGROUP),
@@ -2350,7 +2376,7 @@ mod tests {
             2 + core::mem::size_of::<boundtrace_tracer::scalis::ScalisState<f32>>() / 4
         );
         // (the size the crate docs give)
-        assert_eq!(SCALIS_LEG_WORDS * 4, 3224);
+        assert_eq!(SCALIS_LEG_WORDS * 4, 3344);
         // The leg record: the tracer's state, then the phase and the roots
         // shaded (what the shader writes).
         assert_eq!(
@@ -2708,12 +2734,14 @@ mod tests {
     /// from their words as the shader reads them: the layout check of
     /// `to_words`) against the CPU renderer's `render_scene`: the same
     /// records and roots on every pixel, bit for bit, for both methods and
-    /// modes, in one leg per pixel or in legs of a few steps.
+    /// modes, in one leg per pixel or in legs of a few steps, with the
+    /// tight stages in `render_scalis_tight_leg` (the host's rounds).
     #[test]
     fn scalis_kernels_on_the_host_match_the_cpu() {
         use boundtrace_gpu_kernel as k;
         use boundtrace_tracer::Root;
         use boundtrace_tracer::render::render_scene;
+        use boundtrace_tracer::scalis::TIGHT_REQUESTED;
         for name in ["scalis-tree", "scalis-random"] {
             let scene = Scene::<f32>::build(name, DEFAULT_SEED).unwrap();
             let data = GpuScene::from_scene(&scene).unwrap();
@@ -2745,7 +2773,7 @@ mod tests {
                     };
                     let [offsets, lists, segments] = data.buffers(&camera, &settings);
                     assert_eq!(offsets.len(), (size * size + 1) as usize);
-                    let mut max_legs = 0;
+                    let (mut max_legs, mut tight) = (0, 0);
                     let lists: Vec<PrimitiveHit<f32>> = read_as(&lists);
                     let segments: Vec<ScalisSegment<f32>> = read_as(&segments);
                     assert_eq!(segments, data.segments);
@@ -2771,8 +2799,13 @@ mod tests {
                                 &c, &offsets, &lists, &segments, x, y, &mut roots, &mut hits, base,
                                 &mut leg, &mut p,
                             );
+                            // the tight stage it left (the host's second
+                            // dispatch of each round)
+                            tight += u32::from(leg.state.walk.tight.status == TIGHT_REQUESTED);
+                            k::render_scalis_tight_leg(
+                                &c, &offsets, &lists, &segments, x, y, &mut leg,
+                            );
                         }
-                        assert!(legs == 1 || c.leg_steps > 0);
                         max_legs = max_legs.max(legs);
                         let a = cpu.pixel(x, y).unwrap();
                         let s = &a.trace.stats;
@@ -2804,6 +2837,7 @@ mod tests {
                     assert!(hit_pixels > 0, "{name} {method} {mode:?}: no pixel hits");
                     // short legs: many per pixel, the same records
                     assert!(leg_steps == 0 || max_legs > 3, "{max_legs}");
+                    assert!(tight > 0, "{name} {method} {mode:?}: no tight stage");
                 }
             }
         }

@@ -310,6 +310,114 @@ pub fn trace_scalis_resume_in<T: Real, G: StepGuard>(
     state: &mut ScalisState<T>,
     guard: &mut G,
 ) -> Leg<T> {
+    scalis_resume::<T, G, false>(
+        segments, iso, lists, list, ray, span, method, mode, params, roots, window, state, guard,
+    )
+}
+
+/// [`trace_scalis_resume_in`] without the tight stage (the log-concave
+/// ranges and the Taylor models of the grazing stretches, most of the
+/// code): an interval that needs it is left in the state
+/// ([`ScalisWalk::tight`], status [`TIGHT_REQUESTED`]) and the leg pauses;
+/// [`scalis_tight_resume_in`] runs it, and the next leg goes on with its
+/// verdict. A GPU compiles the two as two entry points, each much smaller
+/// than the whole (a driver that inlines every call compiles the whole in
+/// more memory than a machine has). Alternating the two until a leg is
+/// not paused gives the uninterrupted [`trace_scalis_in`]'s roots, record
+/// and counters, whatever the pauses.
+#[allow(clippy::too_many_arguments)]
+pub fn trace_scalis_resume_deferred_in<T: Real, G: StepGuard>(
+    segments: &[ScalisSegment<T>],
+    iso: T,
+    lists: &[PrimitiveHit<T>],
+    list: [usize; 2],
+    ray: &Ray<T>,
+    span: [T; 2],
+    method: Method,
+    mode: Mode,
+    params: &Params<T>,
+    roots: &mut [Root<T>],
+    window: [usize; 2],
+    state: &mut ScalisState<T>,
+    guard: &mut G,
+) -> Leg<T> {
+    scalis_resume::<T, G, true>(
+        segments, iso, lists, list, ray, span, method, mode, params, roots, window, state, guard,
+    )
+}
+
+/// The tight stage that [`trace_scalis_resume_deferred_in`] left in
+/// `state` (status [`TIGHT_REQUESTED`]), for the same ray and hit list, in
+/// legs: one hit of a pass per step, `guard` asked before and after each
+/// (a step it rejects after it ran is undone). `true` once the stage has
+/// its verdict (or there is none to run), `false` when paused. A state
+/// whose region does not lie in the list gets the verdict "not proven
+/// root-free", which is always sound (the interval is split further).
+#[allow(clippy::too_many_arguments)]
+pub fn scalis_tight_resume_in<T: Real, G: StepGuard>(
+    segments: &[ScalisSegment<T>],
+    iso: T,
+    lists: &[PrimitiveHit<T>],
+    list: [usize; 2],
+    ray: &Ray<T>,
+    state: &mut ScalisState<T>,
+    guard: &mut G,
+) -> bool {
+    let walk = &mut state.walk;
+    if walk.tight.status != TIGHT_REQUESTED {
+        return true;
+    }
+    let (lo, n) = (list[0], list[1]);
+    let (first, next) = (walk.first as usize, walk.next as usize);
+    if lo > lists.len() || n > lists.len() - lo || first > next || next > n {
+        walk.tight.status = TIGHT_NOT_FREE;
+        return true;
+    }
+    let ctx = Ctx {
+        segments,
+        hits: lists,
+        iso,
+        ray,
+    };
+    let hits = HitRange {
+        start: lo + first,
+        end: lo + next,
+    };
+    loop {
+        if !guard.before_step(walk.stats.steps) {
+            return false;
+        }
+        let (tight, evals) = (walk.tight, walk.stats.bound_evals);
+        let done = ctx.tight_step(&mut walk.tight, hits, &mut walk.stats);
+        if !guard.after_step() {
+            walk.tight = tight;
+            walk.stats.bound_evals = evals;
+            return false;
+        }
+        if done {
+            return true;
+        }
+    }
+}
+
+/// [`trace_scalis_resume_in`] (`DEFER` false) and
+/// [`trace_scalis_resume_deferred_in`] (`DEFER` true).
+#[allow(clippy::too_many_arguments)]
+fn scalis_resume<T: Real, G: StepGuard, const DEFER: bool>(
+    segments: &[ScalisSegment<T>],
+    iso: T,
+    lists: &[PrimitiveHit<T>],
+    list: [usize; 2],
+    ray: &Ray<T>,
+    span: [T; 2],
+    method: Method,
+    mode: Mode,
+    params: &Params<T>,
+    roots: &mut [Root<T>],
+    window: [usize; 2],
+    state: &mut ScalisState<T>,
+    guard: &mut G,
+) -> Leg<T> {
     let unsupported = Leg {
         paused: false,
         trace: Trace {
@@ -411,7 +519,7 @@ pub fn trace_scalis_resume_in<T: Real, G: StepGuard>(
                 start: lo + state.walk.first as usize,
                 end: lo + state.walk.next as usize,
             };
-            let flow = region_iteration(&ctx, state, hits, params, split, &mut w);
+            let flow = region_iteration::<T, DEFER>(&ctx, state, hits, params, split, &mut w);
             if flow.done {
                 state.walk.in_region = 0;
             }
@@ -439,6 +547,12 @@ pub fn trace_scalis_resume_in<T: Real, G: StepGuard>(
             return Leg {
                 paused: false,
                 trace: flow.trace,
+            };
+        }
+        if flow.wait {
+            return Leg {
+                paused: true,
+                trace: w.done(Status::Finished, state.walk.region[0]),
             };
         }
     }
@@ -493,6 +607,8 @@ impl<T: Real> ScalisState<T> {
                 fix: [0; 2],
                 cur: zero,
                 split: [zero; 2],
+                pair: [zero; 2],
+                tight: ScalisTight::none(),
             },
             stack: [[zero; 2]; STACK_CAPACITY],
         }
@@ -540,6 +656,11 @@ pub struct ScalisWalk<T> {
     pub cur: ScalisPoint<T>,
     /// [`PENDING_SPLIT`]: the interval cut at the requested points.
     pub split: [ScalisPoint<T>; 2],
+    /// The interval taken from the stack whose tight stage runs (or ran)
+    /// in [`tight`](Self::tight).
+    pub pair: [ScalisPoint<T>; 2],
+    /// The tight stage of `pair`.
+    pub tight: ScalisTight<T>,
 }
 
 impl<T: Real> ScalisWalk<T> {
@@ -569,6 +690,85 @@ pub const PENDING_SPLIT: u32 = 1;
 /// [`ScalisWalk::kind`]: the end of a touch, for the stack's top interval
 /// and the cursor ([`ScalisWalk::fix`]).
 pub const PENDING_TOUCH_END: u32 = 2;
+
+/// The tight stage of one interval between two steps (`#[repr(C)]`, flags
+/// as `u32`, 18 words): [`ScalisWalk::tight`], where a GPU's tracing legs
+/// leave an interval their ranges could not decide for a smaller entry
+/// point of its own ([`scalis_tight_resume_in`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C)]
+pub struct ScalisTight<T> {
+    /// [`TIGHT_NONE`], [`TIGHT_REQUESTED`] (running), [`TIGHT_FREE`] or
+    /// [`TIGHT_NOT_FREE`].
+    pub status: u32,
+    /// The interval `[a, b]`.
+    pub ab: [T; 2],
+    /// Where the Taylor models are built (its midpoint).
+    pub c: T,
+    /// The enclosure of `iso − f` on `[a, b]` so far.
+    pub r: Interval<T>,
+    /// `1` when both ends have the same strict sign.
+    pub same: u32,
+    /// The pieces of this pass (`1`, then [`FINE_PIECES`]).
+    pub pieces: u32,
+    /// The pass's next hit, relative to the region's first.
+    pub k: u32,
+    /// The pass's sum of per-primitive ranges so far.
+    pub sum: Interval<T>,
+    /// The pass's summed Taylor model so far (`f0`, `f'`, `f''`).
+    pub model: [Interval<T>; 3],
+    /// `1` while every primitive so far has a Taylor model.
+    pub whole: u32,
+}
+
+impl<T: Real> ScalisTight<T> {
+    /// No tight stage (all zeros).
+    fn none() -> Self {
+        let zero = Interval::point(T::ZERO);
+        Self {
+            status: TIGHT_NONE,
+            ab: [T::ZERO; 2],
+            c: T::ZERO,
+            r: zero,
+            same: 0,
+            pieces: 0,
+            k: 0,
+            sum: zero,
+            model: [zero; 3],
+            whole: 0,
+        }
+    }
+
+    /// The tight stage of `[a.t, b.t]`, whose range so far is `r`.
+    fn start(a: &ScalisPoint<T>, b: &ScalisPoint<T>, r: Interval<T>) -> Self {
+        let same = (a.f.lo() > T::ZERO && b.f.lo() > T::ZERO)
+            || (a.f.hi() < T::ZERO && b.f.hi() < T::ZERO);
+        let (a, b) = (a.t, b.t);
+        // the models are built at the midpoint (a quarter of the quadratic
+        // term of a model built at an end)
+        let c = (a + (b - a) * T::HALF).max(a).min(b);
+        Self {
+            status: TIGHT_REQUESTED,
+            ab: [a, b],
+            c,
+            r,
+            same: u32::from(same),
+            pieces: 1,
+            whole: 1,
+            ..Self::none()
+        }
+    }
+}
+
+/// [`ScalisTight::status`]: no tight stage.
+pub const TIGHT_NONE: u32 = 0;
+/// [`ScalisTight::status`]: the tight stage is running (or, in a GPU's
+/// tracing legs, waiting for [`scalis_tight_resume_in`]).
+pub const TIGHT_REQUESTED: u32 = 1;
+/// [`ScalisTight::status`]: the interval is proven root-free.
+pub const TIGHT_FREE: u32 = 2;
+/// [`ScalisTight::status`]: the tight stage could not prove it.
+pub const TIGHT_NOT_FREE: u32 = 3;
 
 /// Where the Lipschitz constant of SCALIS sphere tracing
 /// ([`trace_scalis_sphere`]) is valid.
@@ -681,6 +881,9 @@ struct HitRange {
 struct Flow<T> {
     stop: bool,
     done: bool,
+    /// The iteration left its interval's tight stage to
+    /// [`scalis_tight_resume_in`] (or waits for it): the leg pauses.
+    wait: bool,
     trace: Trace<T>,
 }
 
@@ -689,6 +892,7 @@ impl<T: Real> Flow<T> {
         Self {
             stop: false,
             done: false,
+            wait: false,
             trace: Trace {
                 roots: 0,
                 status: Status::Finished,
@@ -703,10 +907,17 @@ impl<T: Real> Flow<T> {
             ..Self::go()
         }
     }
+    fn wait() -> Self {
+        Self {
+            wait: true,
+            ..Self::go()
+        }
+    }
     fn stop(trace: Trace<T>) -> Self {
         Self {
             stop: true,
             done: false,
+            wait: false,
             trace,
         }
     }
@@ -852,8 +1063,8 @@ impl<T: Real> Ctx<'_, T> {
     }
 
     /// Whether `[a.t, b.t]` is proven root-free: a range of `iso − f`
-    /// that excludes `0` ([`range`](Self::range), then
-    /// [`tight_density`](Self::tight_density)), or the same strict sign at
+    /// that excludes `0` ([`range`](Self::range), then the tight stage,
+    /// [`tight_step`](Self::tight_step)), or the same strict sign at
     /// both ends with a derivative enclosure of the summed Taylor models
     /// ([`bounds::taylor_model_slope`]) that excludes `0` (a monotone
     /// field). The tight stage runs with one piece per primitive, then,
@@ -865,69 +1076,21 @@ impl<T: Real> Ctx<'_, T> {
         b: &ScalisPoint<T>,
         stats: &mut RayStats,
     ) -> bool {
-        let mut r = self.range(hits, a.t, b.t, stats);
+        let r = self.range(hits, a.t, b.t, stats);
         if !r.contains(T::ZERO) {
             return true;
         }
-        let same = (a.f.lo() > T::ZERO && b.f.lo() > T::ZERO)
-            || (a.f.hi() < T::ZERO && b.f.hi() < T::ZERO);
-        let (a, b) = (a.t, b.t);
-        // the models are built at the midpoint (a quarter of the quadratic
-        // term of a model built at an end)
-        let c = (a + (b - a) * T::HALF).max(a).min(b);
-        let mut pieces = 1;
-        loop {
-            stats.bound_evals += 1;
-            let (d, model, whole) = self.tight_density(hits, a, b, c, pieces);
-            let x = r.intersection(Interval::point(self.iso) - d);
-            if !x.is_empty() {
-                r = x;
-            }
-            if !r.contains(T::ZERO) {
-                return true;
-            }
-            if same && whole {
-                let slope = bounds::taylor_model_slope(model, c, a, b);
-                if !slope.is_empty() && !slope.contains(T::ZERO) {
-                    return true;
-                }
-            }
-            if pieces >= FINE_PIECES {
-                return false;
-            }
-            // Would a second derivative FINE_GAIN times narrower, at the
-            // point of this one nearest 0, decide? (Only a filter: what is
-            // proven comes from the second pass itself.)
-            if !whole {
-                return false;
-            }
-            let [f0, d1, d2] = model;
-            let near = if d2.lo() > T::ZERO {
-                d2.lo()
-            } else if d2.hi() < T::ZERO {
-                d2.hi()
-            } else {
-                T::ZERO
-            };
-            let rad = (d2.hi() - d2.lo()) * T::HALF / T::from_f64(FINE_GAIN);
-            let hope = [f0, d1, Interval::new(near - rad, near + rad)];
-            let hope_range =
-                Interval::point(self.iso) - bounds::taylor_model_range_at(hope, c, a, b);
-            let hope_slope = bounds::taylor_model_slope(hope, c, a, b);
-            let hopeless_range = hope_range.contains(T::ZERO);
-            let hopeless_slope = !same || hope_slope.contains(T::ZERO);
-            if hopeless_range && hopeless_slope {
-                return false;
-            }
-            pieces = FINE_PIECES;
-        }
+        let mut tight = ScalisTight::start(a, b, r);
+        while !self.tight_step(&mut tight, hits, stats) {}
+        tight.status == TIGHT_FREE
     }
 
-    /// The stage after [`range`](Self::range) in
-    /// [`root_free`](Self::root_free), for the grazing stretches
-    /// where the field stays close to the iso-value (the cell sums and the
-    /// closed form's Lipschitz lines are much wider than its variation
-    /// there): a sound enclosure of the density on `[a, b]`, the
+    /// One step of the tight stage of [`root_free`](Self::root_free) on
+    /// `t`'s interval: one more hit into the pass's sums, or, after the
+    /// last hit, the pass's verdict ([`TIGHT_FREE`], [`TIGHT_NOT_FREE`],
+    /// or a second pass with [`FINE_PIECES`]). `true` once decided.
+    ///
+    /// A pass encloses the density on `[a, b]` soundly by the
     /// intersection of
     ///
     /// - the sum over the hits of per-primitive ranges: the log-concave
@@ -938,39 +1101,23 @@ impl<T: Real> Ctx<'_, T> {
     ///   ([`FINE_CELLS`]) when neither applies;
     /// - the range of the **sum** of the quadratic Taylor models (a
     ///   primitive without one enters as its constant range), which keeps
-    ///   the cancellations between primitives.
+    ///   the cancellations between primitives;
     ///
-    /// Also returns that summed model and whether every primitive has one
-    /// (then the model serves the derivative enclosure of
-    /// [`root_free`](Self::root_free)).
-    fn tight_density(
-        &self,
-        hits: HitRange,
-        a: T,
-        b: T,
-        c: T,
-        pieces: u32,
-    ) -> (Interval<T>, [Interval<T>; 3], bool) {
+    /// and when every primitive has a model, the summed model's derivative
+    /// enclosure may prove the field monotone.
+    fn tight_step(&self, t: &mut ScalisTight<T>, hits: HitRange, stats: &mut RayStats) -> bool {
         let zero = Interval::point(T::ZERO);
-        let mut sum = zero;
-        let mut model = [zero; 3];
-        let mut whole = true;
-        let mut k = hits.start;
-        while k < hits.end {
+        let (a, b, c) = (t.ab[0], t.ab[1], t.c);
+        let k = hits.start + t.k as usize;
+        if k < hits.end && !(self.hits[k].entry > b) {
+            t.k += 1;
             let h = self.hits[k];
-            k += 1;
-            if h.entry > b {
-                break;
-            }
             if h.exit < a {
-                continue;
+                return false;
             }
             let s = self.seg(&h);
-            // both bounds hold on the whole line (the closed form is exactly
-            // 0 outside the support), so [a, b] is used as is; an empty
-            // interval where a bound does not apply
             let lc = bounds::log_concave_range_or_empty(s, self.ray, a, b);
-            let tm = bounds::taylor_model_at_or_empty(s, self.ray, c, a, b, pieces);
+            let tm = bounds::taylor_model_at_or_empty(s, self.ray, c, a, b, t.pieces);
             let has_tm = !tm[0].is_empty();
             let tr = if has_tm {
                 bounds::taylor_model_range_at(tm, c, a, b)
@@ -991,18 +1138,73 @@ impl<T: Real> Ctx<'_, T> {
                 if u > a || v < b { d.hull(zero) } else { d }
             };
             per = Interval::new(per.lo().max(T::ZERO), per.hi());
-            sum = sum + per;
+            t.sum = t.sum + per;
             if has_tm {
-                model[0] = model[0] + tm[0];
-                model[1] = model[1] + tm[1];
-                model[2] = model[2] + tm[2];
+                t.model[0] = t.model[0] + tm[0];
+                t.model[1] = t.model[1] + tm[1];
+                t.model[2] = t.model[2] + tm[2];
             } else {
-                model[0] = model[0] + per;
-                whole = false;
+                t.model[0] = t.model[0] + per;
+                t.whole = 0;
+            }
+            return false;
+        }
+        // the pass's verdict
+        stats.bound_evals += 1;
+        let model = t.model;
+        let whole = t.whole != 0;
+        let m = t
+            .sum
+            .intersection(bounds::taylor_model_range_at(model, c, a, b));
+        let d = if m.is_empty() { t.sum } else { m };
+        let x = t.r.intersection(Interval::point(self.iso) - d);
+        if !x.is_empty() {
+            t.r = x;
+        }
+        t.status = TIGHT_NOT_FREE;
+        if !t.r.contains(T::ZERO) {
+            t.status = TIGHT_FREE;
+            return true;
+        }
+        let same = t.same != 0;
+        if same && whole {
+            let slope = bounds::taylor_model_slope(model, c, a, b);
+            if !slope.is_empty() && !slope.contains(T::ZERO) {
+                t.status = TIGHT_FREE;
+                return true;
             }
         }
-        let r = sum.intersection(bounds::taylor_model_range_at(model, c, a, b));
-        (if r.is_empty() { sum } else { r }, model, whole)
+        if t.pieces >= FINE_PIECES || !whole {
+            return true;
+        }
+        // Would a second derivative FINE_GAIN times narrower, at the
+        // point of this one nearest 0, decide? (Only a filter: what is
+        // proven comes from the second pass itself.)
+        let [f0, d1, d2] = model;
+        let near = if d2.lo() > T::ZERO {
+            d2.lo()
+        } else if d2.hi() < T::ZERO {
+            d2.hi()
+        } else {
+            T::ZERO
+        };
+        let rad = (d2.hi() - d2.lo()) * T::HALF / T::from_f64(FINE_GAIN);
+        let hope = [f0, d1, Interval::new(near - rad, near + rad)];
+        let hope_range = Interval::point(self.iso) - bounds::taylor_model_range_at(hope, c, a, b);
+        let hope_slope = bounds::taylor_model_slope(hope, c, a, b);
+        let hopeless_range = hope_range.contains(T::ZERO);
+        let hopeless_slope = !same || hope_slope.contains(T::ZERO);
+        if hopeless_range && hopeless_slope {
+            return true;
+        }
+        // the second pass
+        t.status = TIGHT_REQUESTED;
+        t.pieces = FINE_PIECES;
+        t.k = 0;
+        t.sum = zero;
+        t.model = [zero; 3];
+        t.whole = 1;
+        false
     }
 }
 
@@ -1080,7 +1282,12 @@ pub(crate) fn oracle<T: Real>(a: T, b: T, ga: T, da: T, gb: T, db: T, weight: T)
 /// and applied, then the next interval is taken from the stack and decided,
 /// split or reported. Roots go to `w`; the [`Flow`] says whether the region
 /// is done or tracing stops (with the final record).
-fn region_iteration<T: Real>(
+///
+/// With `DEFER`, an interval that needs the tight stage is left in
+/// [`ScalisWalk::tight`] for [`scalis_tight_resume_in`] (the iteration
+/// waits for it, and resumes with its verdict); without, the tight stage
+/// runs here.
+fn region_iteration<T: Real, const DEFER: bool>(
     ctx: &Ctx<'_, T>,
     s: &mut ScalisState<T>,
     hits: HitRange,
@@ -1092,8 +1299,28 @@ fn region_iteration<T: Real>(
     let fine = eps / T::from_f64(f64::from(1u32 << TOUCH_DEPTH));
     let delta = eps * T::from_f64(0.45);
     let refine = eps * T::from_f64(REFINE_EPS);
+    let consts = [fine, delta, refine];
     let origin = ScalisPoint::new(s.walk.region[0], Interval::point(T::ZERO));
     let mut sp = s.walk.sp as usize;
+    if s.walk.tight.status != TIGHT_NONE {
+        // the interval taken from the stack waits for, or has, the verdict
+        // of its tight stage
+        if s.walk.tight.status == TIGHT_REQUESTED {
+            if DEFER {
+                return Flow::wait();
+            }
+            while !ctx.tight_step(&mut s.walk.tight, hits, &mut w.stats) {}
+        }
+        let free = s.walk.tight.status == TIGHT_FREE;
+        s.walk.tight = ScalisTight::none();
+        if free {
+            return Flow::go();
+        }
+        let [a, b] = s.walk.pair;
+        let flow = region_finish(ctx, s, &mut sp, a, b, hits, params, split, w, consts);
+        s.walk.sp = sp as u32;
+        return flow;
+    }
     let nreq = s.walk.nreq as usize;
     let mut vals = [origin; 2];
     let mut q = 0;
@@ -1144,16 +1371,7 @@ fn region_iteration<T: Real>(
     }
     s.walk.kind = PENDING_START;
     s.walk.nreq = 0;
-    let flow = region_decide(
-        ctx,
-        s,
-        &mut sp,
-        hits,
-        params,
-        split,
-        w,
-        [fine, delta, refine],
-    );
+    let flow = region_decide::<T, DEFER>(ctx, s, &mut sp, hits, params, split, w, consts);
     s.walk.sp = sp as u32;
     flow
 }
@@ -1162,7 +1380,7 @@ fn region_iteration<T: Real>(
 /// the next interval, or the next pre-segmented one when the stack is
 /// empty (or the region's end).
 #[allow(clippy::too_many_arguments)]
-fn region_decide<T: Real>(
+fn region_decide<T: Real, const DEFER: bool>(
     ctx: &Ctx<'_, T>,
     s: &mut ScalisState<T>,
     sp: &mut usize,
@@ -1170,7 +1388,7 @@ fn region_decide<T: Real>(
     params: &Params<T>,
     split: Split,
     w: &mut Walk<'_, T>,
-    [fine, delta, refine]: [T; 3],
+    consts: [T; 3],
 ) -> Flow<T> {
     let r1 = s.walk.region[1];
     let eps = params.eps;
@@ -1199,11 +1417,66 @@ fn region_decide<T: Real>(
         return Flow::go();
     }
     *sp -= 1;
-    let [mut a, mut b] = s.stack[*sp];
+    let [a, b] = s.stack[*sp];
     if w.stats.steps >= params.max_steps {
         return Flow::stop(w.done(Status::MaxSteps, a.t));
     }
     w.stats.steps += 1;
+    let (leaf, crossing) = leaf_crossing(&a, &b, *sp, eps);
+    // a leaf with a sign change is a crossing without further proof
+    if !(leaf && crossing) {
+        if DEFER {
+            let r = ctx.range(hits, a.t, b.t, &mut w.stats);
+            if !r.contains(T::ZERO) {
+                return Flow::go();
+            }
+            // the tight stage, in a smaller entry point of its own
+            s.walk.pair = [a, b];
+            s.walk.tight = ScalisTight::start(&a, &b, r);
+            return Flow::wait();
+        }
+        if ctx.root_free(hits, &a, &b, &mut w.stats) {
+            return Flow::go();
+        }
+    }
+    region_finish(ctx, s, sp, a, b, hits, params, split, w, consts)
+}
+
+/// Whether the interval `[a, b]` taken from the stack (whose height is
+/// now `sp`) is a leaf (too short or too deep to split), and whether its
+/// ends' signs differ.
+fn leaf_crossing<T: Real>(
+    a: &ScalisPoint<T>,
+    b: &ScalisPoint<T>,
+    sp: usize,
+    eps: T,
+) -> (bool, bool) {
+    let len = b.t - a.t;
+    let mid = a.t + len * T::HALF;
+    let splittable = mid > a.t && mid < b.t && sp + 3 <= STACK_CAPACITY;
+    let leaf = !(len > eps) || !splittable;
+    (leaf, inside(a.f) != inside(b.f))
+}
+
+/// The rest of an iteration for the interval `[a, b]` taken from the stack
+/// and not proven root-free: a root at a leaf, else the interval split at
+/// the oracle's predicted root or its midpoint (evaluated at the next
+/// iteration's top).
+#[allow(clippy::too_many_arguments)]
+fn region_finish<T: Real>(
+    ctx: &Ctx<'_, T>,
+    s: &mut ScalisState<T>,
+    sp: &mut usize,
+    mut a: ScalisPoint<T>,
+    mut b: ScalisPoint<T>,
+    hits: HitRange,
+    params: &Params<T>,
+    split: Split,
+    w: &mut Walk<'_, T>,
+    [fine, delta, refine]: [T; 3],
+) -> Flow<T> {
+    let r1 = s.walk.region[1];
+    let eps = params.eps;
     let len = b.t - a.t;
     let mid = a.t + len * T::HALF;
     let splittable = mid > a.t && mid < b.t && *sp + 3 <= STACK_CAPACITY;
@@ -1214,10 +1487,6 @@ fn region_decide<T: Real>(
     let (ia, ib) = (inside(a.f), inside(b.f));
     let crossing = ia != ib;
     let crossing_side = if ib { Side::Entering } else { Side::Leaving };
-    let crossing_leaf = leaf && crossing;
-    if !crossing_leaf && ctx.root_free(hits, &a, &b, &mut w.stats) {
-        return Flow::go();
-    }
     if leaf {
         // A leaf: a crossing, or (after halving below eps) a touch.
         let side = if crossing {
@@ -1646,89 +1915,132 @@ mod tests {
     /// The legs of a trace, paused and undone at random, give the
     /// uninterrupted trace's roots, record and counters exactly, in both
     /// modes, for both methods, with small root windows (buffer full) and
-    /// a step limit; a leg whose every iteration is rejected changes
-    /// nothing.
+    /// a step limit, with the tight stage inline or deferred to
+    /// [`scalis_tight_resume_in`]; a leg whose every iteration is rejected
+    /// changes nothing.
     #[test]
     fn resumed_legs_give_the_uninterrupted_trace() {
         let sk = skeleton();
         let span = [0.0, 6.0];
-        let mut rejected = 0;
-        let mut max_legs = 0;
+        let (mut rejected, mut max_legs, mut deferrals) = (0, 0, 0);
         let rays = RAYS.into_iter().chain([
             ([-2.0, 1.16, 0.0], [1.0, 0.0, 0.0]),
             ([2.0, -3.0, 0.1], [0.0, 1.0, 0.02]),
             ([-1.0, 1.3, -0.3], [1.0, 0.05, 0.1]),
         ]);
+        let guards = [
+            (2, false),
+            (3, false),
+            (7, false),
+            (1 << 30, true),
+            (3, true),
+        ];
         for (o, d) in rays {
             let ray = Ray::new(o, d);
             let mut store = [PrimitiveHit::empty(); 8];
             let list = RayPrimitives::build(sk.segments(), &ray, span, &mut store);
             assert!(!list.overflowed());
             let hits = list.hits().to_vec();
+            let (segs, iso, all) = (sk.segments(), sk.iso(), [0, hits.len()]);
             for method in [Method::ScalisQuadratic, Method::Interval] {
                 for mode in [Mode::Transparent, Mode::Opaque] {
                     for (cap, max_steps) in [(16, 100_000), (1, 100_000), (16, 12)] {
                         let mut params = Params::new();
                         params.max_steps = max_steps;
-                        let args = (sk.segments(), sk.iso(), &hits[..], [0, hits.len()]);
+                        let p = &params;
                         let mut whole = [NONE; 16];
                         let once = trace_scalis_in(
-                            args.0,
-                            args.1,
-                            args.2,
-                            args.3,
+                            segs,
+                            iso,
+                            &hits,
+                            all,
                             &ray,
                             span,
                             method,
                             mode,
-                            &params,
+                            p,
                             &mut whole,
                             [0, cap],
                         );
-                        for every in [2, 3, 7] {
-                            let mut guard = Chaos {
-                                seed: 0x9e37_79b9_7f4a_7c15 ^ u64::from(every),
+                        for (every, deferred) in guards {
+                            let seed = 0x9e37_79b9_7f4a_7c15 ^ u64::from(every);
+                            let mut g = Chaos {
+                                seed,
                                 every,
                                 calls: 0,
                                 rejected: 0,
                             };
                             let mut state = ScalisState::start();
-                            let mut roots = [NONE; 16];
-                            let mut legs = 0;
+                            let (st, mut roots, mut legs) = (&mut state, [NONE; 16], 0);
+                            let r = &mut roots;
                             let last = loop {
                                 legs += 1;
                                 assert!(legs < 100_000, "no progress");
-                                let leg = trace_scalis_resume_in(
-                                    args.0,
-                                    args.1,
-                                    args.2,
-                                    args.3,
-                                    &ray,
-                                    span,
-                                    method,
-                                    mode,
-                                    &params,
-                                    &mut roots,
-                                    [0, cap],
-                                    &mut state,
-                                    &mut guard,
-                                );
+                                let leg = if deferred {
+                                    trace_scalis_resume_deferred_in(
+                                        segs,
+                                        iso,
+                                        &hits,
+                                        all,
+                                        &ray,
+                                        span,
+                                        method,
+                                        mode,
+                                        p,
+                                        r,
+                                        [0, cap],
+                                        st,
+                                        &mut g,
+                                    )
+                                } else {
+                                    trace_scalis_resume_in(
+                                        segs,
+                                        iso,
+                                        &hits,
+                                        all,
+                                        &ray,
+                                        span,
+                                        method,
+                                        mode,
+                                        p,
+                                        r,
+                                        [0, cap],
+                                        st,
+                                        &mut g,
+                                    )
+                                };
                                 if !leg.paused {
                                     break leg.trace;
                                 }
+                                if st.walk.tight.status == TIGHT_REQUESTED {
+                                    assert!(deferred);
+                                    deferrals += 1;
+                                    while !scalis_tight_resume_in(
+                                        segs, iso, &hits, all, &ray, st, &mut g,
+                                    ) {
+                                        legs += 1;
+                                        assert!(legs < 100_000, "no progress");
+                                    }
+                                    assert!(st.walk.tight.status >= TIGHT_FREE);
+                                }
                             };
-                            let what = format!("{method} {mode:?} cap {cap} every {every}");
+                            let what = format!(
+                                "{method} {mode:?} cap {cap} every {every} deferred {deferred}"
+                            );
                             assert_eq!(last, once, "{what}");
                             let n = once.roots as usize;
                             assert_eq!(roots[..n], whole[..n], "{what}");
-                            rejected += guard.rejected;
+                            rejected += g.rejected;
                             max_legs = max_legs.max(legs);
                         }
                     }
                 }
             }
         }
-        assert!(rejected > 100 && max_legs > 20, "{rejected} {max_legs}");
+        assert!(
+            rejected > 100 && max_legs > 20 && deferrals > 20,
+            "{rejected} {max_legs} {deferrals}"
+        );
         // Every iteration rejected: the state does not move.
         struct Never;
         impl StepGuard for Never {
