@@ -18,8 +18,8 @@
 #     …-linear-mixed-blobs.spv, …-linear-mixed-groups.spv,
 #     …-quadratic-mixed-blobs.spv, …-quadratic-mixed-groups.spv (forward mixed bounds;
 #                                         only with BOUNDTRACE_MIXED_MODULES=1)
-#     …-scalis.spv                        (`scalis-quadratic` and `interval` on SCALIS skeletons;
-#                                         only with BOUNDTRACE_SCALIS_MODULE=1)
+#     …-scalis.spv                        (`scalis-quadratic` and `interval` on SCALIS skeletons:
+#                                         `trace_scalis` and `trace_scalis_tight`)
 #
 # The bottom-up, mixed and SCALIS modules are written as rust-gpu links them,
 # without spirv-opt (seconds instead of minutes, and a few GB instead of
@@ -98,12 +98,11 @@ if [ -z "${BOUNDTRACE_SHADER_FEATURES:-}" ]; then
             module "$method-$kind" "${out%.spv}-$method-$kind.spv" no-opt
         done
     done
-    # `scalis-quadratic` and `interval` on SCALIS skeletons (one entry
-    # point, `trace_scalis`), without spirv-opt likewise; only with
-    # BOUNDTRACE_SCALIS_MODULE=1: lavapipe needs more than 19 GB to compile
-    # its pipeline (BENCHMARKS.md "GPU", session 29).
-    if [ "${BOUNDTRACE_SCALIS_MODULE:-}" = 1 ]; then
-        echo "==> compiling the scalis module (no spirv-opt)"
-        module scalis "${out%.spv}-scalis.spv" no-opt
-    fi
+    # `scalis-quadratic` and `interval` on SCALIS skeletons (two entry
+    # points, `trace_scalis` and its intervals' tight stages,
+    # `trace_scalis_tight`: two pipelines that lavapipe compiles in a few
+    # GB each, where the two in one needed more than 19 GB, BENCHMARKS.md
+    # "GPU", sessions 29-30), without spirv-opt likewise.
+    echo "==> compiling the scalis module (no spirv-opt)"
+    module scalis "${out%.spv}-scalis.spv" no-opt
 fi

@@ -70,18 +70,22 @@
 //! mixed ones only with `BOUNDTRACE_MIXED_MODULES=1` (lavapipe needs
 //! 8-9 min and ≈ 20 GB per mixed pipeline). `scalis-quadratic` and the
 //! per-primitive `interval` bisection on SCALIS skeletons have a module of
-//! their own (`trace_scalis`, built without spirv-opt and only with
-//! `BOUNDTRACE_SCALIS_MODULE=1`: lavapipe needs more than 19 GB to compile
-//! it): [`GpuScene::from_scene`] takes the SCALIS scenes, and each frame's
-//! per-ray primitive lists (the A-buffer of thesis Part III §1.5) are
-//! built on the host ([`PrimitiveLists`]) and uploaded with the segments;
-//! the kernel is the tracer's
-//! [`trace_scalis_resume_in`](boundtrace_tracer::scalis::trace_scalis_resume_in),
+//! their own with two entry points, `trace_scalis` and
+//! [`SCALIS_TIGHT_ENTRY`] (built without spirv-opt): [`GpuScene::from_scene`]
+//! takes the SCALIS scenes, and each frame's per-ray primitive lists (the
+//! A-buffer of thesis Part III §1.5) are built on the host
+//! ([`PrimitiveLists`]) and uploaded with the segments. `trace_scalis` runs
+//! the tracer's
+//! [`trace_scalis_resume_deferred_in`](boundtrace_tracer::scalis::trace_scalis_resume_deferred_in)
 //! in resumable legs like the other leg methods (each pixel's interval
 //! stack in its [`ScalisLeg`], 3,344 bytes: a frame of more pixels than
-//! the device binds in one buffer is refused), and on the host it gives
-//! the CPU renderer's frames bit for bit, in one leg or in legs of a few
-//! steps (unit test). The
+//! the device binds in one buffer is refused), leaving each interval its
+//! ranges cannot decide to the tight stage, which `trace_scalis_tight`
+//! runs in a dispatch of its own after each leg — two pipelines that a
+//! driver inlining every call compiles in far less memory than the one
+//! they were (BENCHMARKS.md "GPU", sessions 29-30). On the host the two
+//! kernels give the CPU renderer's frames bit for bit, in one leg or in
+//! legs of a few steps (unit test). The
 //! other methods (interval and affine on other scenes) live in the
 //! `trace_pixels` entry point
 //! ([`render_pixel`](boundtrace_gpu_kernel::render_pixel), shader feature
@@ -1045,7 +1049,7 @@ impl GpuTracer {
                     if !has(module, SCALIS_TIGHT_ENTRY) {
                         return Err(unavailable(format!(
                             "the module with `{entry}` lacks `{SCALIS_TIGHT_ENTRY}`: rebuild it \
-                             (BOUNDTRACE_SCALIS_MODULE=1 {BUILD_COMMAND})"
+                             ({BUILD_COMMAND})"
                         )));
                     }
                     let p = self.lazy_pipeline(&self.scalis_tight, module, SCALIS_TIGHT_ENTRY);
@@ -1053,8 +1057,13 @@ impl GpuTracer {
                 } else {
                     None
                 };
+                // one pipeline per entry point (both SCALIS methods share one)
+                let first = LEG_MODULE_LIST
+                    .iter()
+                    .position(|&(_, _, m)| m == LEG_MODULE_LIST[slot].2)
+                    .unwrap_or(slot);
                 return self
-                    .lazy_pipeline(&self.legs[slot], module, &entry)
+                    .lazy_pipeline(&self.legs[first], module, &entry)
                     .as_ref()
                     .map(|p| (p, true, follow))
                     .map_err(|e| unavailable(e.clone()));
@@ -2332,6 +2341,11 @@ mod tests {
         let shader = include_str!("../../gpu-shader/src/lib.rs");
         let features = include_str!("../../gpu-shader/Cargo.toml");
         assert!(script.contains("module scalis \"${out%.spv}-scalis.spv\" no-opt"));
+        // the SCALIS tight stages' entry point, in the same module
+        assert!(shader.contains(&format!(
+            "#[cfg(feature = \"scalis\")]\n#[allow(clippy::too_many_arguments)]\n\
+             #[spirv(compute(threads(8, 8)))]\npub fn {SCALIS_TIGHT_ENTRY}("
+        )));
         for slot in 0..LEG_MODULES {
             let (_, kind, name) = leg_module(slot);
             assert!(features.contains(&format!("\n{name} = []")), "{name}");
