@@ -379,7 +379,7 @@ impl<T: Real> FieldNum<T> for Plain<T> {
         Plain(self.0.powi(n))
     }
     fn powf(self, p: T) -> Self {
-        Plain(self.0.powf(p))
+        Plain(self.0.powf_ia(p))
     }
     fn sqrt(self) -> Self {
         Plain(self.0.sqrt())
@@ -391,7 +391,7 @@ impl<T: Real> FieldNum<T> for Plain<T> {
         Plain(self.0.exp_ia())
     }
     fn ln(self) -> Self {
-        Plain(self.0.ln())
+        Plain(self.0.ln_ia())
     }
     fn sin(self) -> Self {
         Plain(self.0.sin())

@@ -7,9 +7,11 @@
 //!
 //! Both back ends document an error below 1 ulp for every function used here
 //! (musl-derived `libm`; glibc's and the platform libraries behind `std`), and
-//! `sqrt` is correctly rounded (IEEE 754). The `f32` `exp` is `ia-core`'s
-//! own on every target ([`exp_f32`]), and on SPIR-V so are the other
-//! `f32` functions (the driver's instructions are not precise enough). The
+//! `sqrt` is correctly rounded (IEEE 754). The `f32` `exp`, `ln` and `pow`
+//! are `ia-core`'s own on every target ([`exp_f32`], [`ln_f32`],
+//! [`pow_f32`]: the GPU computes the same bits as the CPU), and on SPIR-V so
+//! are the other `f32` functions (the driver's instructions are not precise
+//! enough). The
 //! interval code widens results by [`Math::TRANSCENDENTAL_STEPS`] resp.
 //! [`SQRT_ULPS`] float steps outward.
 
@@ -38,9 +40,10 @@ pub(crate) const TRANSCENDENTAL_ULPS: u32 = 2;
 pub(crate) const TRANSCENDENTAL_ULPS: u32 = 8;
 
 /// [`Math::TRANSCENDENTAL_STEPS`] of `f32`: 2 on every target. On CPUs
-/// `exp` is [`exp_f32`] (the GPU's own, within one step, so that both
-/// compute the same bounds bit for bit) and `ln`, `sin`, `cos`, `pow` the
-/// platform's or `libm`'s (< 1 ulp); on SPIR-V all five are `ia-core`'s
+/// `exp`, `ln` and `pow` are [`exp_f32`], [`ln_f32`] and [`pow_f32`] (the
+/// GPU's own, within one step, so that both compute the same bounds and
+/// field values bit for bit) and `sin`, `cos` the platform's or `libm`'s
+/// (< 1 ulp); on SPIR-V all five are `ia-core`'s
 /// own, within one step ([`exp_f32`], [`ln_f32`], [`sin_f32`],
 /// [`cos_f32`], [`pow_f32`]). An error below one step of the exact result
 /// is within two steps of the returned value.
@@ -96,7 +99,7 @@ pub trait Math: Copy {
 }
 
 macro_rules! impl_math {
-    ($t:ty, $exp_cpu:path, $exp_std:path, $exp_spirv:path, $ln:ident, $ln_spirv:path, $sin:ident, $sin_spirv:path, $cos:ident, $cos_spirv:path, $pow:ident, $pow_spirv:path, $sqrt:ident, $sqrt_spirv:path, $div:ident, $steps:ident, $tsteps:ident) => {
+    ($t:ty, $exp_cpu:path, $exp_std:path, $exp_spirv:path, $ln:path, $ln_std:path, $ln_spirv:path, $sin:ident, $sin_spirv:path, $cos:ident, $cos_spirv:path, $pow:path, $pow_std:path, $pow_spirv:path, $sqrt:ident, $sqrt_spirv:path, $div:ident, $steps:ident, $tsteps:ident) => {
         #[cfg(feature = "libm")]
         impl Math for $t {
             #[cfg_attr(not(target_arch = "spirv"), inline)]
@@ -118,7 +121,7 @@ macro_rules! impl_math {
                 }
                 #[cfg(not(target_arch = "spirv"))]
                 {
-                    libm::$ln(self)
+                    $ln(self)
                 }
             }
             #[cfg_attr(not(target_arch = "spirv"), inline)]
@@ -151,7 +154,7 @@ macro_rules! impl_math {
                 }
                 #[cfg(not(target_arch = "spirv"))]
                 {
-                    libm::$pow(self, p)
+                    $pow(self, p)
                 }
             }
             #[cfg_attr(not(target_arch = "spirv"), inline)]
@@ -181,7 +184,7 @@ macro_rules! impl_math {
             }
             #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn m_ln(self) -> Self {
-                <$t>::ln(self)
+                $ln_std(self)
             }
             #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn m_sin(self) -> Self {
@@ -193,7 +196,7 @@ macro_rules! impl_math {
             }
             #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn m_pow(self, p: Self) -> Self {
-                <$t>::powf(self, p)
+                $pow_std(self, p)
             }
             #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn m_sqrt(self) -> Self {
@@ -214,13 +217,15 @@ impl_math!(
     exp_f32,
     exp_f32,
     exp_f32,
-    logf,
+    ln_f32,
+    ln_f32,
     ln_f32,
     sinf,
     sin_f32,
     cosf,
     cos_f32,
-    powf,
+    pow_f32,
+    pow_f32,
     pow_f32,
     sqrtf,
     sqrt_f32,
@@ -233,13 +238,15 @@ impl_math!(
     libm::exp,
     f64::exp,
     libm::exp,
-    log,
+    libm::log,
+    f64::ln,
     libm::log,
     sin,
     libm::sin,
     cos,
     libm::cos,
-    pow,
+    libm::pow,
+    f64::powf,
     libm::pow,
     sqrt,
     libm::sqrt,

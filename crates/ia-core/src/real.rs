@@ -100,6 +100,30 @@ pub trait Real: num_traits::Float + Math + 'static {
         self.m_exp()
     }
 
+    /// `ln self` as `ia-core` computes it for its bounds, before they are
+    /// widened: for `f32` `ia-core`'s own logarithm on every target (within
+    /// one float step of `ln x`, the same bits on CPUs and on GPUs with IEEE
+    /// `f64` arithmetic, where the driver's `Log` is only required to 3 ulp),
+    /// for `f64` the platform's or `libm`'s (`< 1` ulp). Plain-float field
+    /// evaluations and jets use it, like [`exp_ia`](Self::exp_ia).
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
+    fn ln_ia(self) -> Self {
+        self.m_ln()
+    }
+
+    /// `self^p` as `ia-core` computes it for its bounds, before they are
+    /// widened: for `f32` `ia-core`'s own power for a positive finite
+    /// `self` and a finite `p` on every target (within one float step, the
+    /// same bits on CPUs and on GPUs with IEEE `f64` arithmetic, where the
+    /// driver's `Pow` has no ulp bound), `libm`'s or the platform's
+    /// `powf` for other arguments; for `f64` the platform's or `libm`'s
+    /// (`< 1` ulp). Plain-float field evaluations and jets use it, like
+    /// [`exp_ia`](Self::exp_ia).
+    #[cfg_attr(not(target_arch = "spirv"), inline)]
+    fn powf_ia(self, p: Self) -> Self {
+        self.m_pow(p)
+    }
+
     /// `selfⁿ` as the standard library's `powi` computes it: binary
     /// powering from the lowest bit of `|n|` (the same products in the
     /// same order), then `1 / p` for `n < 0`. Plain-float and jet field

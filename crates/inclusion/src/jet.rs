@@ -79,9 +79,9 @@ impl<T: Real> Jet<T> {
 
     /// `x^p` for real `p` (`x > 0`, else NaN parts as in `powf`).
     pub fn powf(self, p: T) -> Self {
-        let g = self.v.powf(p);
-        let g1 = p * self.v.powf(p - T::ONE);
-        let g2 = p * (p - T::ONE) * self.v.powf(p - T::TWO);
+        let g = self.v.powf_ia(p);
+        let g1 = p * self.v.powf_ia(p - T::ONE);
+        let g2 = p * (p - T::ONE) * self.v.powf_ia(p - T::TWO);
         self.chain(g, g1, g2)
     }
 
@@ -110,7 +110,7 @@ impl<T: Real> Jet<T> {
     /// `ln x`.
     pub fn ln(self) -> Self {
         let g1 = T::ONE / self.v;
-        self.chain(self.v.ln(), g1, -g1 * g1)
+        self.chain(self.v.ln_ia(), g1, -g1 * g1)
     }
 
     /// `sin x`.

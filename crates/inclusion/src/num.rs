@@ -107,7 +107,7 @@ macro_rules! float_num {
             #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn powi(self, n: i32) -> Self { Real::powi_std(self, n) }
             #[cfg_attr(not(target_arch = "spirv"), inline)]
-            fn powf(self, p: $t) -> Self { Float::powf(self, p) }
+            fn powf(self, p: $t) -> Self { Real::powf_ia(self, p) }
             #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn sqrt(self) -> Self { Float::sqrt(self) }
             #[cfg_attr(not(target_arch = "spirv"), inline)]
@@ -115,7 +115,7 @@ macro_rules! float_num {
             #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn exp(self) -> Self { Real::exp_ia(self) }
             #[cfg_attr(not(target_arch = "spirv"), inline)]
-            fn ln(self) -> Self { Float::ln(self) }
+            fn ln(self) -> Self { Real::ln_ia(self) }
             #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn sin(self) -> Self { Float::sin(self) }
             #[cfg_attr(not(target_arch = "spirv"), inline)]

@@ -334,7 +334,7 @@ pub fn log_concave_range_or_empty<T: Real>(
         let (al, be) = (sa, sb);
         if al > T::ZERO && be < T::ZERO {
             // approximately where the two tangents cross (any point is sound)
-            let t = (fb.hi().ln() - fa.hi().ln() + al * a - be * b) / (al - be);
+            let t = (fb.hi().ln_ia() - fa.hi().ln_ia() + al * a - be * b) / (al - be);
             if t.is_finite() {
                 let t = t.max(a).min(b);
                 hi = hi.min(tangent_a(t, al).max(tangent_b(t, be)));
