@@ -94,9 +94,10 @@ pub mod trace;
 pub use camera::Camera;
 pub use method::{InvalidParams, Method, Mode, Params, UnknownMethod};
 pub use trace::{
-    Leg, RayStats, Root, Side, Status, Trace, first_root, normal, trace, trace_in,
-    trace_linear_bottom_up_resume_in, trace_linear_mixed_resume_in, trace_linear_taylor_resume_in,
-    trace_quadratic_bottom_up_resume_in, trace_quadratic_mixed_resume_in,
-    trace_quadratic_taylor_resume_in, trace_resume_in, trace_segment_resume_in, trace_sphere_in,
+    Leg, RayStats, Root, Side, Status, Trace, fill_taylor_cache, first_root, normal, trace,
+    trace_in, trace_linear_bottom_up_resume_in, trace_linear_mixed_cached_resume_in,
+    trace_linear_mixed_resume_in, trace_linear_taylor_resume_in,
+    trace_quadratic_bottom_up_resume_in, trace_quadratic_mixed_cached_resume_in,
+    trace_quadratic_mixed_resume_in, trace_quadratic_taylor_resume_in, trace_resume_in, trace_segment_resume_in, trace_sphere_in,
     trace_sphere_resume_in,
 };

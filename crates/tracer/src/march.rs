@@ -873,6 +873,7 @@ pub(crate) fn march<T: Real, F: Field<T>>(
         &mut state,
         &mut Unguarded,
         method,
+        (),
     );
     final_record(next)
 }
@@ -884,6 +885,10 @@ pub(crate) fn march<T: Real, F: Field<T>>(
 /// Associated functions, not methods: rust-gpu cannot take a pointer to a
 /// zero-sized field ("cannot offset a pointer to an arbitrary element").
 pub(crate) trait WindowBounds {
+    /// What the bounds read besides the field, kept in the marcher's loop
+    /// variables and passed by value (`()` for all but [`CachedMixed`]).
+    type Cache<T: Copy>: Copy;
+
     /// The bound of `method` at `t` on `[t, e]` (see [`window_bound`]).
     fn bound<T: Real, F: Field<T>>(
         method: Method,
@@ -892,13 +897,24 @@ pub(crate) trait WindowBounds {
         t: T,
         e: T,
         stats: &mut RayStats,
+        cache: Self::Cache<T>,
     ) -> StepBound<T>;
+
+    /// Whether the bound on `[t, e]` can be built now; when not, the step
+    /// is undone and the trace pauses before it ([`CachedMixed`]: until
+    /// the Taylor part is in the cache).
+    #[inline]
+    fn ready<T: Real>(_cache: Self::Cache<T>, _t: T, _e: T) -> bool {
+        true
+    }
 }
 
 /// Every window method, chosen at run time.
 pub(crate) struct AnyWindow;
 
 impl WindowBounds for AnyWindow {
+    type Cache<T: Copy> = ();
+
     fn bound<T: Real, F: Field<T>>(
         method: Method,
         field: &F,
@@ -906,6 +922,7 @@ impl WindowBounds for AnyWindow {
         t: T,
         e: T,
         stats: &mut RayStats,
+        _cache: (),
     ) -> StepBound<T> {
         window_bound(field, ray, t, e, method, stats)
     }
@@ -917,6 +934,8 @@ impl WindowBounds for AnyWindow {
 pub(crate) struct SegmentTaylor;
 
 impl WindowBounds for SegmentTaylor {
+    type Cache<T: Copy> = ();
+
     fn bound<T: Real, F: Field<T>>(
         _method: Method,
         field: &F,
@@ -924,6 +943,7 @@ impl WindowBounds for SegmentTaylor {
         t: T,
         e: T,
         stats: &mut RayStats,
+        _cache: (),
     ) -> StepBound<T> {
         segment_taylor_bound(field, ray, t, e, stats)
     }
@@ -946,6 +966,8 @@ pub(crate) type TaylorWindow<const QUADRATIC: bool> = OneBound<false, QUADRATIC>
 pub(crate) type BottomUpWindow<const QUADRATIC: bool> = OneBound<true, QUADRATIC>;
 
 impl<const BOTTOM_UP: bool, const QUADRATIC: bool> WindowBounds for OneBound<BOTTOM_UP, QUADRATIC> {
+    type Cache<T: Copy> = ();
+
     fn bound<T: Real, F: Field<T>>(
         _method: Method,
         field: &F,
@@ -953,6 +975,7 @@ impl<const BOTTOM_UP: bool, const QUADRATIC: bool> WindowBounds for OneBound<BOT
         t: T,
         e: T,
         stats: &mut RayStats,
+        _cache: (),
     ) -> StepBound<T> {
         // One bound evaluation, as `by_kind` counts a Taylor or bottom-up
         // bound.
@@ -985,6 +1008,8 @@ impl<const BOTTOM_UP: bool, const QUADRATIC: bool> WindowBounds for OneBound<BOT
 pub(crate) struct MixedWindow<const QUADRATIC: bool>;
 
 impl<const QUADRATIC: bool> WindowBounds for MixedWindow<QUADRATIC> {
+    type Cache<T: Copy> = ();
+
     fn bound<T: Real, F: Field<T>>(
         _method: Method,
         field: &F,
@@ -992,6 +1017,7 @@ impl<const QUADRATIC: bool> WindowBounds for MixedWindow<QUADRATIC> {
         t: T,
         e: T,
         stats: &mut RayStats,
+        _cache: (),
     ) -> StepBound<T> {
         let len = e - t;
         if QUADRATIC {
@@ -1016,6 +1042,128 @@ impl<const QUADRATIC: bool> WindowBounds for MixedWindow<QUADRATIC> {
     }
 }
 
+/// The Taylor part of a [`Method::LinearMixed`] or [`Method::QuadraticMixed`]
+/// step's bound, computed apart from the rest of the trace
+/// ([`fill_taylor_cache`](crate::fill_taylor_cache)) and read by
+/// [`trace_linear_mixed_cached_resume_in`](crate::trace_linear_mixed_cached_resume_in)
+/// and [`trace_quadratic_mixed_cached_resume_in`](crate::trace_quadratic_mixed_cached_resume_in).
+///
+/// A GPU that inlines every call compiles a mixed step — a bottom-up and a
+/// Taylor bound over every primitive — into one pipeline of 3.4–3.9 M
+/// SPIR-V instructions, which lavapipe needed ≈ 20 GB and 8–9 minutes to
+/// compile (BENCHMARKS.md "GPU", session 28). With the Taylor part in a
+/// pipeline of its own, run between two legs, each pipeline holds one
+/// bound. The trace is the same, bit for bit: the same function builds the
+/// Taylor bound on the same window, and the step combines it with the
+/// bottom-up bound as [`MixedWindow`] does.
+///
+/// `#[repr(C)]`, 17 words for `f32`: a GPU keeps one per pixel beside the
+/// pixel's [`MarchState`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C)]
+pub struct TaylorCache<T> {
+    /// The window `[t, e]` the bound is for (when `filled != 0`).
+    pub t: T,
+    /// The window's end.
+    pub e: T,
+    /// `1` when the cache holds the Taylor bound on `[t, e]`, else `0`.
+    pub filled: u32,
+    /// `1` when the field has a Taylor bound on `[t, e]` (the cached
+    /// `linear` or `quadratic` one), `0` when it has none (the step uses
+    /// the bottom-up bound alone, as [`MixedWindow`] does).
+    pub some: u32,
+    /// The linear Taylor bound ([`Method::LinearMixed`]).
+    pub linear: ForwardLinear<T>,
+    /// The quadratic Taylor bound ([`Method::QuadraticMixed`]).
+    pub quadratic: ForwardQuadratic<T>,
+}
+
+impl<T: Real> TaylorCache<T> {
+    /// The empty cache (no bound).
+    pub const EMPTY: Self = Self {
+        t: T::ZERO,
+        e: T::ZERO,
+        filled: 0,
+        some: 0,
+        linear: ForwardLinear::INVALID,
+        quadratic: ForwardQuadratic::INVALID,
+    };
+
+    /// Whether the cache holds the bound on `[t, e]` (the same window; a
+    /// NaN end is never held).
+    #[inline]
+    pub fn holds(&self, t: T, e: T) -> bool {
+        self.filled != 0 && self.t == t && self.e == e
+    }
+}
+
+impl<T: Real> Default for TaylorCache<T> {
+    fn default() -> Self {
+        Self::EMPTY
+    }
+}
+
+/// [`MixedWindow`] with the Taylor part of each bound read from a
+/// [`TaylorCache`]: a step whose window the cache does not hold is not
+/// taken (the trace pauses before it, for the cache to be filled), so the
+/// code of the Taylor bounds is not linked in.
+pub(crate) struct CachedMixed<const QUADRATIC: bool>;
+
+impl<const QUADRATIC: bool> WindowBounds for CachedMixed<QUADRATIC> {
+    type Cache<T: Copy> = TaylorCache<T>;
+
+    fn bound<T: Real, F: Field<T>>(
+        _method: Method,
+        field: &F,
+        ray: &Ray<T>,
+        t: T,
+        e: T,
+        stats: &mut RayStats,
+        cache: TaylorCache<T>,
+    ) -> StepBound<T> {
+        let len = e - t;
+        let some = cache.some != 0;
+        if QUADRATIC {
+            let b = by_kind(
+                BoundKind::Mixed,
+                stats,
+                || bottom_up_quadratic(field, ray, t, e),
+                || some.then_some(cache.quadratic),
+                ForwardQuadratic::tighter,
+            );
+            StepBound::from_quadratic_or_unsupported(b, len)
+        } else {
+            let b = by_kind(
+                BoundKind::Mixed,
+                stats,
+                || field.eval(ray.at(t, e)),
+                || some.then_some(cache.linear),
+                ForwardLinear::tighter,
+            );
+            StepBound::from_linear_or_unsupported(b, len)
+        }
+    }
+
+    #[inline]
+    fn ready<T: Real>(cache: TaylorCache<T>, t: T, e: T) -> bool {
+        cache.holds(t, e)
+    }
+}
+
+/// The window `[t, e]` of the next step of a window marcher in state `st`
+/// on a span ending at `t1` ([`Window`]'s step builds its bound there).
+#[inline]
+pub(crate) fn next_window<T: Real>(st: &MarchState<T>, t1: T, eps: T) -> [T; 2] {
+    [st.t, window_end(st.t, st.win, eps, t1)]
+}
+
+/// The end of the window of length `win` (at least `eps`) from `t`,
+/// before `t1`.
+#[inline]
+fn window_end<T: Real>(t: T, win: T, eps: T, t1: T) -> T {
+    advance(t, win.max(eps)).min(t1)
+}
+
 /// The window marcher (forward-inclusion paper Alg. 1) from `st`, under
 /// `guard`: `stop` with the final record, or paused (`!stop`, `trace` the
 /// counts so far) with `st` where to resume.
@@ -1030,6 +1178,7 @@ pub(crate) fn window_run<B: WindowBounds, T: Real, F: Field<T>, G: StepGuard>(
     st: &mut MarchState<T>,
     guard: &mut G,
     method: Method,
+    cache: B::Cache<T>,
 ) -> Next<T> {
     let mut w = Walk::new(roots, mode, params.eps);
     w.n = st.roots;
@@ -1040,6 +1189,7 @@ pub(crate) fn window_run<B: WindowBounds, T: Real, F: Field<T>, G: StepGuard>(
         win: st.win,
         prev: st.prev,
         method,
+        cache,
         bounds: PhantomData,
     };
     let next = run_guarded(field, ray, span[1], params, &mut s, &mut w, guard);
@@ -1059,7 +1209,7 @@ pub(crate) fn window_run<B: WindowBounds, T: Real, F: Field<T>, G: StepGuard>(
 }
 
 /// The loop variables of [`window_run`].
-struct Window<T, B> {
+struct Window<T: Copy, B: WindowBounds> {
     t: T,
     /// The length of the next window.
     win: T,
@@ -1067,16 +1217,18 @@ struct Window<T, B> {
     prev: i32,
     /// The method, for [`AnyWindow`].
     method: Method,
+    /// What the bounds read ([`WindowBounds::Cache`]).
+    cache: B::Cache<T>,
     bounds: PhantomData<B>,
 }
 
-impl<T: Copy, B> Clone for Window<T, B> {
+impl<T: Copy, B: WindowBounds> Clone for Window<T, B> {
     fn clone(&self) -> Self {
         *self
     }
 }
 
-impl<T: Copy, B> Copy for Window<T, B> {}
+impl<T: Copy, B: WindowBounds> Copy for Window<T, B> {}
 
 impl<T: Real, B: WindowBounds> Stepper<T> for Window<T, B> {
     fn at(&self) -> T {
@@ -1096,8 +1248,11 @@ impl<T: Real, B: WindowBounds> Stepper<T> for Window<T, B> {
         let eps = params.eps;
         let t = self.t;
         w.stats.steps += 1;
-        let e = advance(t, self.win.max(eps)).min(t1);
-        let b = B::bound(self.method, field, ray, t, e, &mut w.stats);
+        let e = window_end(t, self.win, eps, t1);
+        if !B::ready(self.cache, t, e) {
+            return w.cut(t);
+        }
+        let b = B::bound(self.method, field, ray, t, e, &mut w.stats, self.cache);
         if !b.supported {
             return w.stop(Status::Unsupported, t);
         }
@@ -1968,6 +2123,97 @@ mod tests {
         }
         // The guards did pause the traces.
         assert!(legs_seen > 1000, "{legs_seen}");
+    }
+
+    /// The mixed methods with their Taylor parts filled apart
+    /// ([`fill_taylor_cache`](crate::fill_taylor_cache) between legs, as
+    /// the GPU's two pipelines run): the uninterrupted trace bit for bit,
+    /// one step per leg at most, on a field with Taylor bounds and on one
+    /// without (`Ball`: the bottom-up bound alone).
+    #[test]
+    fn mixed_with_the_taylor_part_filled_apart_matches_one_trace() {
+        use crate::trace::{
+            fill_taylor_cache, trace_in, trace_linear_mixed_cached_resume_in,
+            trace_quadratic_mixed_cached_resume_in,
+        };
+        use boundtrace_fields::{Blobs, Kernel, PointBlob};
+        let k = Kernel::compact(6, 1.0).unwrap();
+        let blobs = Blobs::new(
+            0.35,
+            [
+                PointBlob::new([-1.2, 0.0, 0.0], 1.0, k).unwrap(),
+                PointBlob::new([-0.3, 0.2, 0.0], 0.7, k).unwrap(),
+                PointBlob::new([0.9, -0.1, 0.1], 1.1, k).unwrap(),
+                PointBlob::new([1.7, 0.3, 0.0], 0.6, k).unwrap(),
+            ],
+        )
+        .unwrap();
+        fn check<F: Field<f64>>(field: &F, what: &str) -> u32 {
+            let p = Params::new();
+            let mut legs_seen = 0;
+            for m in [Method::LinearMixed, Method::QuadraticMixed] {
+                let quadratic = m == Method::QuadraticMixed;
+                for y in [0.0, 0.3, 0.55, 0.7, 0.95] {
+                    let ray = Ray::new([-3.0, y, 0.05], [1.0, 0.0, 0.0]);
+                    for mode in [Mode::Opaque, Mode::Transparent] {
+                        let (span, window) = ([0.0, 6.0], [1, 6]);
+                        let mut once = [NONE; 8];
+                        let whole = trace_in(field, &ray, span, m, mode, &p, &mut once, window);
+                        assert!(whole.stats.steps > 0, "{what} {m}");
+                        for (every, undo) in [(1000, 1000), (2, 3), (1000, 4)] {
+                            let mut buf = [NONE; 8];
+                            let mut st = MarchState::start(span, &p);
+                            let mut cache = TaylorCache::EMPTY;
+                            let (mut calls, mut legs) = (0, 0u32);
+                            let last = loop {
+                                legs += 1;
+                                assert!(legs < 10_000, "no progress");
+                                let mut guard = Faulty {
+                                    left: every,
+                                    undo,
+                                    calls: &mut calls,
+                                };
+                                let before = st.stats.steps;
+                                // an empty window first: nothing to fill
+                                // before the first leg
+                                if legs > 1 {
+                                    fill_taylor_cache(
+                                        field, &ray, span, &p, &st, quadratic, &mut cache,
+                                    );
+                                }
+                                let leg = if quadratic {
+                                    trace_quadratic_mixed_cached_resume_in(
+                                        field, &ray, span, mode, &p, &mut buf, window, &mut st,
+                                        &cache, &mut guard,
+                                    )
+                                } else {
+                                    trace_linear_mixed_cached_resume_in(
+                                        field, &ray, span, mode, &p, &mut buf, window, &mut st,
+                                        &cache, &mut guard,
+                                    )
+                                };
+                                if !leg.paused {
+                                    break leg.trace;
+                                }
+                                assert!(st.stats.steps <= before + 1, "{what} {m}: two steps");
+                                if legs == 1 {
+                                    assert_eq!(st, MarchState::start(span, &p), "a step was taken");
+                                }
+                            };
+                            legs_seen += legs;
+                            assert_eq!(last, whole, "{what} {m} y {y} {mode:?} {every}/{undo}");
+                            assert!(legs > whole.stats.steps, "{what} {m}");
+                            for (x, z) in once.iter().zip(&buf) {
+                                assert_eq!((x.t.to_bits(), x.side), (z.t.to_bits(), z.side));
+                            }
+                        }
+                    }
+                }
+            }
+            legs_seen
+        }
+        assert!(check(&blobs, "blobs") > 100);
+        assert!(check(&Ball(1.0), "ball") > 10);
     }
 
     #[test]

@@ -408,7 +408,7 @@ pub fn trace_resume_in<T: Real, F: Field<T>, G: march::StepGuard>(
         march::sphere_run(field, ray, span, mode, params, slots, state, guard)
     } else {
         march::window_run::<march::AnyWindow, _, _, _>(
-            field, ray, span, mode, params, slots, state, guard, method,
+            field, ray, span, mode, params, slots, state, guard, method, (),
         )
     };
     Leg::of(next)
@@ -433,7 +433,7 @@ macro_rules! single_method_resume {
             guard: &mut G,
         ) -> Leg<T> {
             window_resume_in::<$bounds, _, _, _>(
-                field, ray, span, $method, mode, params, roots, window, state, guard,
+                field, ray, span, $method, mode, params, roots, window, state, guard, (),
             )
         }
     };
@@ -530,15 +530,118 @@ fn window_resume_in<B: march::WindowBounds, T: Real, F: Field<T>, G: march::Step
     window: [usize; 2],
     state: &mut march::MarchState<T>,
     guard: &mut G,
+    cache: B::Cache<T>,
 ) -> Leg<T> {
     if !accepts(span, params, roots.len(), window) {
         return Leg::unsupported(span);
     }
     let slots = march::RootSlots::new(roots, window);
     let next = march::window_run::<B, _, _, _>(
-        field, ray, span, mode, params, slots, state, guard, method,
+        field, ray, span, mode, params, slots, state, guard, method, cache,
     );
     Leg::of(next)
+}
+
+/// [`trace_linear_mixed_resume_in`] with the Taylor part of each step's
+/// bound read from `cache` ([`march::TaylorCache`]), so that a caller (the
+/// GPU shader's `trace_linear_mixed_*` entry points) links the bottom-up
+/// bound alone: a leg pauses before any step whose window `cache` does not
+/// hold ([`Leg::paused`]), for [`fill_taylor_cache`] to fill it from the
+/// state, and the next leg takes that step. The trace is
+/// [`trace_linear_mixed_resume_in`]'s bit for bit (the same Taylor bound
+/// on the same window, combined the same way), one step per leg at most.
+#[allow(clippy::too_many_arguments)]
+pub fn trace_linear_mixed_cached_resume_in<T: Real, F: Field<T>, G: march::StepGuard>(
+    field: &F,
+    ray: &Ray<T>,
+    span: [T; 2],
+    mode: Mode,
+    params: &Params<T>,
+    roots: &mut [Root<T>],
+    window: [usize; 2],
+    state: &mut march::MarchState<T>,
+    cache: &march::TaylorCache<T>,
+    guard: &mut G,
+) -> Leg<T> {
+    window_resume_in::<march::CachedMixed<false>, _, _, _>(
+        field,
+        ray,
+        span,
+        Method::LinearMixed,
+        mode,
+        params,
+        roots,
+        window,
+        state,
+        guard,
+        *cache,
+    )
+}
+
+/// [`trace_linear_mixed_cached_resume_in`] for [`Method::QuadraticMixed`]:
+/// [`trace_quadratic_mixed_resume_in`]'s trace with the Taylor quadratic
+/// bounds read from `cache`.
+#[allow(clippy::too_many_arguments)]
+pub fn trace_quadratic_mixed_cached_resume_in<T: Real, F: Field<T>, G: march::StepGuard>(
+    field: &F,
+    ray: &Ray<T>,
+    span: [T; 2],
+    mode: Mode,
+    params: &Params<T>,
+    roots: &mut [Root<T>],
+    window: [usize; 2],
+    state: &mut march::MarchState<T>,
+    cache: &march::TaylorCache<T>,
+    guard: &mut G,
+) -> Leg<T> {
+    window_resume_in::<march::CachedMixed<true>, _, _, _>(
+        field,
+        ray,
+        span,
+        Method::QuadraticMixed,
+        mode,
+        params,
+        roots,
+        window,
+        state,
+        guard,
+        *cache,
+    )
+}
+
+/// Fills `cache` with the Taylor bound (linear, or quadratic when
+/// `quadratic`) of the next step of a mixed trace in `state` on `span`
+/// (the window that step bounds), unless it holds that window already:
+/// the other half of [`trace_linear_mixed_cached_resume_in`] and
+/// [`trace_quadratic_mixed_cached_resume_in`]. `state` must be a window
+/// marcher's (from [`march::MarchState::start`] or a mixed leg).
+pub fn fill_taylor_cache<T: Real, F: Field<T>>(
+    field: &F,
+    ray: &Ray<T>,
+    span: [T; 2],
+    params: &Params<T>,
+    state: &march::MarchState<T>,
+    quadratic: bool,
+    cache: &mut march::TaylorCache<T>,
+) {
+    let [t, e] = march::next_window(state, span[1], params.eps);
+    if cache.holds(t, e) {
+        return;
+    }
+    let mut c = march::TaylorCache {
+        t,
+        e,
+        filled: 1,
+        ..march::TaylorCache::EMPTY
+    };
+    if quadratic {
+        if let Some(b) = field.taylor_quadratic(ray, t, e) {
+            (c.some, c.quadratic) = (1, b);
+        }
+    } else if let Some(b) = field.taylor_linear(ray, t, e) {
+        (c.some, c.linear) = (1, b);
+    }
+    *cache = c;
 }
 
 /// The first root of `ray` on `span` (opaque mode), with the trace record.
