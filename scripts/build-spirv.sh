@@ -16,8 +16,8 @@
 #     …-linear-bottom-up-blobs.spv, …-linear-bottom-up-groups.spv,
 #     …-quadratic-bottom-up-blobs.spv, …-quadratic-bottom-up-groups.spv (forward bottom-up bounds)
 #     …-linear-mixed-blobs.spv, …-linear-mixed-groups.spv,
-#     …-quadratic-mixed-blobs.spv, …-quadratic-mixed-groups.spv (forward mixed bounds;
-#                                         only with BOUNDTRACE_MIXED_MODULES=1)
+#     …-quadratic-mixed-blobs.spv, …-quadratic-mixed-groups.spv (forward mixed bounds:
+#                                         `trace_*` and `taylor_*`)
 #     …-scalis.spv                        (`scalis-quadratic` and `interval` on SCALIS skeletons:
 #                                         `trace_scalis` and `trace_scalis_tight`)
 #
@@ -84,14 +84,12 @@ if [ -z "${BOUNDTRACE_SHADER_FEATURES:-}" ]; then
             module sphere-blobtree "${out%.spv}-sphere-blobtree.spv"
         fi
     done
-    # The bottom-up modules, without spirv-opt (see above); the mixed ones
-    # only with BOUNDTRACE_MIXED_MODULES=1: lavapipe takes 8-9 min and
-    # ≈ 20 GB to compile each of their pipelines, more than CI's budget
-    # (BENCHMARKS.md "GPU", session 28).
-    methods="linear-bottom-up quadratic-bottom-up"
-    if [ "${BOUNDTRACE_MIXED_MODULES:-}" = 1 ]; then
-        methods="$methods linear-mixed quadratic-mixed"
-    fi
+    # The bottom-up and mixed modules, without spirv-opt (see above). A
+    # mixed module has two entry points, the bottom-up side (`trace_*`)
+    # and the Taylor side (`taylor_*`), two pipelines that lavapipe
+    # compiles in a few GB each, where one with both took ≈ 20 GB
+    # (BENCHMARKS.md "GPU", sessions 28 and 32).
+    methods="linear-bottom-up quadratic-bottom-up linear-mixed quadratic-mixed"
     for method in $methods; do
         for kind in blobs groups; do
             echo "==> compiling the $method module for $kind (no spirv-opt)"

@@ -57,14 +57,14 @@ use boundtrace_inclusion::{Field, Ray};
 #[cfg(test)]
 use boundtrace_tracer::Side;
 use boundtrace_tracer::camera::{Camera, Projection, ray_box_span};
-use boundtrace_tracer::march::{MarchState, StepGuard};
+use boundtrace_tracer::march::{MarchState, StepGuard, TaylorCache};
 use boundtrace_tracer::pixel::{PixelSetup, PixelTrace, trace_pixel_in, trace_pixel_with};
 use boundtrace_tracer::{
-    Leg, Method, Mode, Params, RayStats, Root, Status, Trace, normal,
-    trace_linear_bottom_up_resume_in, trace_linear_mixed_resume_in, trace_linear_taylor_resume_in,
-    trace_quadratic_bottom_up_resume_in, trace_quadratic_mixed_resume_in,
-    trace_quadratic_taylor_resume_in, trace_segment_resume_in, trace_sphere_in,
-    trace_sphere_resume_in,
+    Leg, Method, Mode, Params, RayStats, Root, Status, Trace, fill_taylor_cache, normal,
+    trace_linear_bottom_up_resume_in, trace_linear_mixed_cached_resume_in,
+    trace_linear_taylor_resume_in, trace_quadratic_bottom_up_resume_in,
+    trace_quadratic_mixed_cached_resume_in, trace_quadratic_taylor_resume_in,
+    trace_segment_resume_in, trace_sphere_in, trace_sphere_resume_in,
 };
 
 /// The largest per-pixel root buffer of the GPU (transparent mode): a
@@ -661,6 +661,7 @@ trait LegTrace: Copy {
         roots: &mut [Root<f32>],
         window: [usize; 2],
         state: &mut MarchState<f32>,
+        cache: &TaylorCache<f32>,
         guard: &mut LimitProbe,
     ) -> Leg<f32>;
 }
@@ -684,6 +685,7 @@ macro_rules! leg_trace {
                 roots: &mut [Root<f32>],
                 window: [usize; 2],
                 state: &mut MarchState<f32>,
+                _cache: &TaylorCache<f32>,
                 guard: &mut LimitProbe,
             ) -> Leg<f32> {
                 $resume(field, ray, span, mode, params, roots, window, state, guard)
@@ -714,6 +716,9 @@ leg_trace!(
 struct Legs<M> {
     _method: M,
     leg: PixelLeg,
+    /// The Taylor parts of the mixed methods' bounds
+    /// ([`render_linear_mixed_leg_in`]); unread by the other methods.
+    cache: TaylorCache<f32>,
     out: PixelOut,
     loops: u32,
     leg_steps: u32,
@@ -765,6 +770,7 @@ impl<M: LegTrace> PixelKernel for Legs<M> {
                         roots,
                         window,
                         &mut leg.state,
+                        &self.cache,
                         &mut guard,
                     );
                     paused = r.paused;
@@ -1052,26 +1058,284 @@ leg_method!(
     trace_quadratic_bottom_up_resume_in
 );
 
-leg_method!(
-    /// [`render_linear_taylor_leg_in`] for [`Method::LinearMixed`] (the
-    /// bottom-up and Taylor linear bounds, the tighter side of each:
-    /// [`trace_linear_mixed_resume_in`]; the shader's `trace_linear_mixed_blobs`
-    /// and `trace_linear_mixed_groups`).
-    render_linear_mixed_leg_in,
-    LinearMixedTrace,
-    Method::LinearMixed,
-    trace_linear_mixed_resume_in
-);
+/// A pixel's resumable trace with a mixed method ([`render_linear_mixed_leg_in`],
+/// [`fill_linear_taylor_in`]): its [`PixelLeg`] and the Taylor part of its
+/// next step's bound (`#[repr(C)]`, 36 words; zero-filled by the host:
+/// [`PHASE_FRESH`], an empty cache).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C)]
+pub struct MixedLeg {
+    /// The leg, as the other leg kernels keep it.
+    pub leg: PixelLeg,
+    /// The Taylor bound on the next step's window, filled by
+    /// [`fill_linear_taylor_in`] (or [`fill_quadratic_taylor_in`]).
+    pub cache: TaylorCache<f32>,
+}
 
-leg_method!(
-    /// [`render_linear_taylor_leg_in`] for [`Method::QuadraticMixed`]
-    /// ([`trace_quadratic_mixed_resume_in`]; the shader's
-    /// `trace_quadratic_mixed_blobs` and `trace_quadratic_mixed_groups`).
-    render_quadratic_mixed_leg_in,
-    QuadraticMixedTrace,
-    Method::QuadraticMixed,
-    trace_quadratic_mixed_resume_in
-);
+/// `linear-mixed` in legs with the Taylor part filled apart
+/// ([`trace_linear_mixed_cached_resume_in`]).
+#[derive(Clone, Copy)]
+struct LinearMixedTrace;
+
+impl LegTrace for LinearMixedTrace {
+    const METHOD: Method = Method::LinearMixed;
+    fn trace<F: Field<f32>>(
+        field: &F,
+        ray: &Ray<f32>,
+        span: [f32; 2],
+        mode: Mode,
+        params: &Params<f32>,
+        roots: &mut [Root<f32>],
+        window: [usize; 2],
+        state: &mut MarchState<f32>,
+        cache: &TaylorCache<f32>,
+        guard: &mut LimitProbe,
+    ) -> Leg<f32> {
+        trace_linear_mixed_cached_resume_in(
+            field, ray, span, mode, params, roots, window, state, cache, guard,
+        )
+    }
+}
+
+/// `quadratic-mixed` in legs with the Taylor part filled apart
+/// ([`trace_quadratic_mixed_cached_resume_in`]).
+#[derive(Clone, Copy)]
+struct QuadraticMixedTrace;
+
+impl LegTrace for QuadraticMixedTrace {
+    const METHOD: Method = Method::QuadraticMixed;
+    fn trace<F: Field<f32>>(
+        field: &F,
+        ray: &Ray<f32>,
+        span: [f32; 2],
+        mode: Mode,
+        params: &Params<f32>,
+        roots: &mut [Root<f32>],
+        window: [usize; 2],
+        state: &mut MarchState<f32>,
+        cache: &TaylorCache<f32>,
+        guard: &mut LimitProbe,
+    ) -> Leg<f32> {
+        trace_quadratic_mixed_cached_resume_in(
+            field, ray, span, mode, params, roots, window, state, cache, guard,
+        )
+    }
+}
+
+/// One leg of pixel `(x, y)` with [`Method::LinearMixed`] (forward linear
+/// mixed bounds: the bottom-up and Taylor bounds, the tighter side of
+/// each), the Taylor part of each step's bound read from `leg.cache`: a
+/// leg pauses before a step whose window the cache does not hold, and
+/// [`fill_linear_taylor_in`], dispatched after it, fills it (the tracer's
+/// [`trace_linear_mixed_cached_resume_in`]). So the shader's
+/// `trace_linear_mixed_blobs` (`_groups`) and `taylor_linear_mixed_blobs`
+/// (`_groups`) are two pipelines holding one bound each, where one
+/// pipeline with both needed ≈ 20 GB on lavapipe (BENCHMARKS.md "GPU",
+/// session 28). Alternating the two until the pixel is done gives
+/// [`render_pixel`]'s records bit for bit, one step per leg at most.
+#[allow(clippy::too_many_arguments)]
+pub fn render_linear_mixed_leg_in<K: SceneKinds>(
+    c: &Constants,
+    words: &[u32],
+    floats: &[f32],
+    blobs: &[PointBlob<f32>],
+    x: u32,
+    y: u32,
+    roots: &mut [Root<f32>],
+    hits: &mut [HitOut],
+    base: usize,
+    leg: &mut MixedLeg,
+    out: &mut PixelOut,
+) {
+    let cache = leg.cache;
+    render_leg_cached::<_, K>(
+        LinearMixedTrace,
+        c,
+        words,
+        floats,
+        blobs,
+        x,
+        y,
+        roots,
+        hits,
+        base,
+        &mut leg.leg,
+        out,
+        cache,
+    );
+}
+
+/// [`render_linear_mixed_leg_in`] for [`Method::QuadraticMixed`]
+/// ([`trace_quadratic_mixed_cached_resume_in`]; the shader's
+/// `trace_quadratic_mixed_blobs` and `trace_quadratic_mixed_groups`, with
+/// [`fill_quadratic_taylor_in`] after each leg).
+#[allow(clippy::too_many_arguments)]
+pub fn render_quadratic_mixed_leg_in<K: SceneKinds>(
+    c: &Constants,
+    words: &[u32],
+    floats: &[f32],
+    blobs: &[PointBlob<f32>],
+    x: u32,
+    y: u32,
+    roots: &mut [Root<f32>],
+    hits: &mut [HitOut],
+    base: usize,
+    leg: &mut MixedLeg,
+    out: &mut PixelOut,
+) {
+    let cache = leg.cache;
+    render_leg_cached::<_, K>(
+        QuadraticMixedTrace,
+        c,
+        words,
+        floats,
+        blobs,
+        x,
+        y,
+        roots,
+        hits,
+        base,
+        &mut leg.leg,
+        out,
+        cache,
+    );
+}
+
+/// The other half of [`render_linear_mixed_leg_in`]: for a pixel paused
+/// in its trace ([`PHASE_TRACING`]) with [`Method::LinearMixed`], the
+/// field's linear Taylor bound on its next step's window, into
+/// `leg.cache` ([`fill_taylor_cache`]), unless the cache holds it. Kept
+/// only when the loop-limit probe after it passes (else the next dispatch
+/// tries again; a bound that never fits in the limit leaves the pixel
+/// without progress, which the host reports). The shader's
+/// `taylor_linear_mixed_blobs` and `taylor_linear_mixed_groups`.
+#[allow(clippy::too_many_arguments)]
+pub fn fill_linear_taylor_in<K: SceneKinds>(
+    c: &Constants,
+    words: &[u32],
+    floats: &[f32],
+    blobs: &[PointBlob<f32>],
+    x: u32,
+    y: u32,
+    roots: &mut [Root<f32>],
+    hits: &mut [HitOut],
+    base: usize,
+    leg: &mut MixedLeg,
+) {
+    fill_taylor_in::<K>(
+        Method::LinearMixed,
+        c,
+        words,
+        floats,
+        blobs,
+        x,
+        y,
+        roots,
+        hits,
+        base,
+        leg,
+    );
+}
+
+/// [`fill_linear_taylor_in`] for [`Method::QuadraticMixed`] (the quadratic
+/// Taylor bound; the shader's `taylor_quadratic_mixed_blobs` and
+/// `taylor_quadratic_mixed_groups`).
+#[allow(clippy::too_many_arguments)]
+pub fn fill_quadratic_taylor_in<K: SceneKinds>(
+    c: &Constants,
+    words: &[u32],
+    floats: &[f32],
+    blobs: &[PointBlob<f32>],
+    x: u32,
+    y: u32,
+    roots: &mut [Root<f32>],
+    hits: &mut [HitOut],
+    base: usize,
+    leg: &mut MixedLeg,
+) {
+    fill_taylor_in::<K>(
+        Method::QuadraticMixed,
+        c,
+        words,
+        floats,
+        blobs,
+        x,
+        y,
+        roots,
+        hits,
+        base,
+        leg,
+    );
+}
+
+/// The body of [`fill_linear_taylor_in`] and [`fill_quadratic_taylor_in`].
+#[allow(clippy::too_many_arguments)]
+fn fill_taylor_in<K: SceneKinds>(
+    method: Method,
+    c: &Constants,
+    words: &[u32],
+    floats: &[f32],
+    blobs: &[PointBlob<f32>],
+    x: u32,
+    y: u32,
+    roots: &mut [Root<f32>],
+    hits: &mut [HitOut],
+    base: usize,
+    leg: &mut MixedLeg,
+) {
+    if leg.leg.phase != PHASE_TRACING || c.method != method as u32 {
+        return;
+    }
+    let mut k = TaylorFill {
+        state: leg.leg.state,
+        cache: leg.cache,
+        quadratic: method == Method::QuadraticMixed,
+        loops: c.guard_loops,
+    };
+    let _ = render_with::<_, K>(&mut k, c, words, floats, blobs, x, y, roots, hits, base);
+    leg.cache = k.cache;
+}
+
+/// [`fill_taylor_in`]'s [`PixelKernel`] (its record is not used).
+struct TaylorFill {
+    state: MarchState<f32>,
+    cache: TaylorCache<f32>,
+    quadratic: bool,
+    loops: u32,
+}
+
+impl PixelKernel for TaylorFill {
+    fn run<F: Field<f32>>(
+        &mut self,
+        field: &F,
+        setup: &PixelSetup<f32>,
+        _max_roots: u32,
+        x: u32,
+        y: u32,
+        _roots: &mut [Root<f32>],
+        _hits: &mut [HitOut],
+        _base: usize,
+    ) -> PixelOut {
+        // The ray and span as `Legs::run` computes them.
+        let ray = setup.camera.ray(x, y, setup.width, setup.height);
+        if let Some(span) = ray_box_span(&ray, &setup.bounds) {
+            let mut cache = self.cache;
+            fill_taylor_cache(
+                field,
+                &ray,
+                span,
+                &setup.params,
+                &self.state,
+                self.quadratic,
+                &mut cache,
+            );
+            if loops_complete(self.loops) {
+                self.cache = cache;
+            }
+        }
+        unsupported()
+    }
+}
 
 /// The leg kernels with `M`'s tracer.
 #[allow(clippy::too_many_arguments)]
@@ -1089,6 +1353,40 @@ fn render_leg<M: LegTrace, K: SceneKinds>(
     leg: &mut PixelLeg,
     out: &mut PixelOut,
 ) {
+    render_leg_cached::<_, K>(
+        method,
+        c,
+        words,
+        floats,
+        blobs,
+        x,
+        y,
+        roots,
+        hits,
+        base,
+        leg,
+        out,
+        TaylorCache::EMPTY,
+    );
+}
+
+/// [`render_leg`] with the mixed methods' Taylor cache.
+#[allow(clippy::too_many_arguments)]
+fn render_leg_cached<M: LegTrace, K: SceneKinds>(
+    method: M,
+    c: &Constants,
+    words: &[u32],
+    floats: &[f32],
+    blobs: &[PointBlob<f32>],
+    x: u32,
+    y: u32,
+    roots: &mut [Root<f32>],
+    hits: &mut [HitOut],
+    base: usize,
+    leg: &mut PixelLeg,
+    out: &mut PixelOut,
+    cache: TaylorCache<f32>,
+) {
     if leg.phase >= PHASE_DONE {
         return;
     }
@@ -1100,6 +1398,7 @@ fn render_leg<M: LegTrace, K: SceneKinds>(
     let mut k = Legs {
         _method: method,
         leg: *leg,
+        cache,
         out: *out,
         loops: c.guard_loops,
         leg_steps: c.leg_steps,
@@ -1673,6 +1972,149 @@ mod tests {
         assert!(resumed > 20, "{resumed}");
         assert!(shaded_from_one > 8, "{shaded_from_one}");
         assert!(method_hits.iter().all(|&n| n > 8), "{method_hits:?}");
+    }
+
+    /// The mixed methods' leg kernels alternated with their Taylor fills
+    /// (as the host dispatches the two pipelines) give `render_pixel`'s
+    /// records and hits bit for bit, one step per leg at most; a kernel
+    /// or fill of the other method leaves the pixel unsupported or its
+    /// cache untouched.
+    #[test]
+    fn mixed_legs_with_their_taylor_fills_match_one_pass() {
+        type MixedFn = fn(
+            &Constants,
+            &[u32],
+            &[f32],
+            &[PointBlob<f32>],
+            u32,
+            u32,
+            &mut [Root<f32>],
+            &mut [HitOut],
+            usize,
+            &mut MixedLeg,
+            &mut PixelOut,
+        );
+        type FillFn = fn(
+            &Constants,
+            &[u32],
+            &[f32],
+            &[PointBlob<f32>],
+            u32,
+            u32,
+            &mut [Root<f32>],
+            &mut [HitOut],
+            usize,
+            &mut MixedLeg,
+        );
+        let (blobs, bounds) = two_blobs();
+        let kernels: [(Method, MixedFn, FillFn); 2] = [
+            (
+                Method::LinearMixed,
+                render_linear_mixed_leg_in::<AllKinds>,
+                fill_linear_taylor_in::<AllKinds>,
+            ),
+            (
+                Method::QuadraticMixed,
+                render_quadratic_mixed_leg_in::<AllKinds>,
+                fill_quadratic_taylor_in::<AllKinds>,
+            ),
+        ];
+        let r = Root {
+            t: 0.0,
+            side: Side::Touch,
+        };
+        for (method, render, fill) in kernels {
+            for mode in [Mode::Opaque, Mode::Transparent] {
+                let setup = six_by_six(bounds, method, mode);
+                let c = Constants::new(&setup, SceneKind::Blobs, 0.5, 4, 0);
+                let (mut hit_pixels, mut steps) = (0, 0);
+                for y in 0..6 {
+                    for x in 0..6 {
+                        let (mut ra, mut ha) = ([r; 4], [HitOut::default(); 4]);
+                        let a = render_pixel(&c, &[], &[], &blobs, x, y, &mut ra, &mut ha, 0);
+                        let (mut rb, mut hb) = ([r; 4], [HitOut::default(); 4]);
+                        let (mut leg, mut out) = (MixedLeg::default(), PixelOut::default());
+                        let mut rounds = 0;
+                        loop {
+                            rounds += 1;
+                            assert!(rounds < 10_000, "no progress");
+                            let before = leg.leg.state.stats.steps;
+                            render(
+                                &c,
+                                &[],
+                                &[],
+                                &blobs,
+                                x,
+                                y,
+                                &mut rb,
+                                &mut hb,
+                                0,
+                                &mut leg,
+                                &mut out,
+                            );
+                            if leg.leg.phase == PHASE_DONE {
+                                break;
+                            }
+                            if leg.leg.phase == PHASE_TRACING {
+                                assert!(leg.leg.state.stats.steps <= before + 1, "two steps");
+                            }
+                            fill(&c, &[], &[], &blobs, x, y, &mut rb, &mut hb, 0, &mut leg);
+                        }
+                        assert_eq!((out, hb), (a, ha), "{method} {mode:?} ({x}, {y})");
+                        assert!(
+                            rounds > a.steps,
+                            "{method}: {rounds} rounds, {} steps",
+                            a.steps
+                        );
+                        hit_pixels += usize::from(a.roots > 0);
+                        steps += a.steps;
+                    }
+                }
+                assert!(hit_pixels > 4, "{method} {mode:?}: {hit_pixels}");
+                assert!(steps > 36, "{method} {mode:?}: {steps}");
+                // The other method's kernel and fill.
+                let (_, other, other_fill) = kernels.iter().find(|k| k.0 != method).unwrap();
+                let (mut rb, mut hb) = ([r; 4], [HitOut::default(); 4]);
+                let (mut leg, mut out) = (MixedLeg::default(), PixelOut::default());
+                other(
+                    &c,
+                    &[],
+                    &[],
+                    &blobs,
+                    3,
+                    3,
+                    &mut rb,
+                    &mut hb,
+                    0,
+                    &mut leg,
+                    &mut out,
+                );
+                assert_eq!(
+                    (leg.leg.phase, out.status),
+                    (PHASE_DONE, Status::Unsupported as u32)
+                );
+                let mut paused = MixedLeg::default();
+                render(
+                    &c,
+                    &[],
+                    &[],
+                    &blobs,
+                    3,
+                    3,
+                    &mut rb,
+                    &mut hb,
+                    0,
+                    &mut paused,
+                    &mut out,
+                );
+                assert_eq!(paused.leg.phase, PHASE_TRACING);
+                let mut filled = paused;
+                other_fill(&c, &[], &[], &blobs, 3, 3, &mut rb, &mut hb, 0, &mut filled);
+                assert_eq!(filled, paused);
+                fill(&c, &[], &[], &blobs, 3, 3, &mut rb, &mut hb, 0, &mut filled);
+                assert_eq!(filled.cache.filled, 1);
+            }
+        }
     }
 
     #[test]

@@ -351,38 +351,122 @@ leg_entry_point!(
     kernel::render_quadratic_bottom_up_leg_in::<kernel::GroupsOnly>
 );
 
-leg_entry_point!(
-    /// Forward linear mixed bounds (the tighter side of the bottom-up and Taylor bounds,
-    /// `linear-mixed`) on `SceneKind::Blobs` scenes
-    /// (`render_linear_mixed_leg_in::<BlobsOnly>`), feature `linear-mixed-blobs`.
+/// The two entry points of a mixed-bounds module: `$trace`, one leg of
+/// each pixel with `$render` (the bottom-up side; the Taylor side read from
+/// the pixel's cache), and `$fill`, dispatched after it, the Taylor side of
+/// each paused pixel's next step by `$fill_kernel` into that cache. Binding
+/// 7 holds [`kernel::MixedLeg`]s; the other bindings are the leg entry
+/// points'.
+macro_rules! mixed_entry_points {
+    ($(#[$doc:meta])* $feature:literal, $trace:ident, $render:path, $fill:ident, $fill_kernel:path) => {
+        $(#[$doc])*
+        #[cfg(feature = $feature)]
+        #[allow(clippy::too_many_arguments)]
+        #[spirv(compute(threads(8, 8)))]
+        pub fn $trace(
+            #[spirv(global_invocation_id)] id: UVec3,
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] constants: &Constants,
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] words: &[u32],
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] floats: &[f32],
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] blobs: &[PointBlob<f32>],
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] pixels: &mut [PixelOut],
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] hits: &mut [HitOut],
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] roots: &mut [Root<f32>],
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] legs: &mut [kernel::MixedLeg],
+        ) {
+            let c = *constants;
+            if id.x >= c.width || id.y >= c.height {
+                return;
+            }
+            let i = (id.y * c.width + id.x) as usize;
+            if i >= pixels.len() || i >= legs.len() {
+                return;
+            }
+            let base = i * c.max_roots as usize;
+            let mut leg = legs[i];
+            let mut out = pixels[i];
+            $render(
+                &c, words, floats, blobs, id.x, id.y, roots, hits, base, &mut leg, &mut out,
+            );
+            legs[i] = leg;
+            pixels[i] = out;
+        }
+
+        /// The Taylor side of the paused pixels' next steps (dispatched
+        /// after each leg of the entry point above).
+        #[cfg(feature = $feature)]
+        #[allow(clippy::too_many_arguments)]
+        #[spirv(compute(threads(8, 8)))]
+        pub fn $fill(
+            #[spirv(global_invocation_id)] id: UVec3,
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] constants: &Constants,
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] words: &[u32],
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] floats: &[f32],
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] blobs: &[PointBlob<f32>],
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] pixels: &mut [PixelOut],
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] hits: &mut [HitOut],
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] roots: &mut [Root<f32>],
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] legs: &mut [kernel::MixedLeg],
+        ) {
+            let c = *constants;
+            if id.x >= c.width || id.y >= c.height {
+                return;
+            }
+            let i = (id.y * c.width + id.x) as usize;
+            if i >= pixels.len() || i >= legs.len() {
+                return;
+            }
+            let base = i * c.max_roots as usize;
+            let mut leg = legs[i];
+            $fill_kernel(&c, words, floats, blobs, id.x, id.y, roots, hits, base, &mut leg);
+            legs[i] = leg;
+        }
+    };
+}
+
+mixed_entry_points!(
+    /// Forward linear mixed bounds (the tighter side of the bottom-up and
+    /// Taylor bounds, `linear-mixed`) on `SceneKind::Blobs` scenes
+    /// (`render_linear_mixed_leg_in::<BlobsOnly>`, with
+    /// `taylor_linear_mixed_blobs` after each leg), feature
+    /// `linear-mixed-blobs`.
     "linear-mixed-blobs",
     trace_linear_mixed_blobs,
-    kernel::render_linear_mixed_leg_in::<kernel::BlobsOnly>
+    kernel::render_linear_mixed_leg_in::<kernel::BlobsOnly>,
+    taylor_linear_mixed_blobs,
+    kernel::fill_linear_taylor_in::<kernel::BlobsOnly>
 );
 
-leg_entry_point!(
+mixed_entry_points!(
     /// `linear-mixed` on `SceneKind::BlobGroups` scenes, feature
     /// `linear-mixed-groups`.
     "linear-mixed-groups",
     trace_linear_mixed_groups,
-    kernel::render_linear_mixed_leg_in::<kernel::GroupsOnly>
+    kernel::render_linear_mixed_leg_in::<kernel::GroupsOnly>,
+    taylor_linear_mixed_groups,
+    kernel::fill_linear_taylor_in::<kernel::GroupsOnly>
 );
 
-leg_entry_point!(
-    /// Forward quadratic mixed bounds (the tighter side of the bottom-up and Taylor bounds,
-    /// `quadratic-mixed`) on `SceneKind::Blobs` scenes
-    /// (`render_quadratic_mixed_leg_in::<BlobsOnly>`), feature `quadratic-mixed-blobs`.
+mixed_entry_points!(
+    /// Forward quadratic mixed bounds (`quadratic-mixed`) on
+    /// `SceneKind::Blobs` scenes (`render_quadratic_mixed_leg_in::<BlobsOnly>`,
+    /// with `taylor_quadratic_mixed_blobs` after each leg), feature
+    /// `quadratic-mixed-blobs`.
     "quadratic-mixed-blobs",
     trace_quadratic_mixed_blobs,
-    kernel::render_quadratic_mixed_leg_in::<kernel::BlobsOnly>
+    kernel::render_quadratic_mixed_leg_in::<kernel::BlobsOnly>,
+    taylor_quadratic_mixed_blobs,
+    kernel::fill_quadratic_taylor_in::<kernel::BlobsOnly>
 );
 
-leg_entry_point!(
+mixed_entry_points!(
     /// `quadratic-mixed` on `SceneKind::BlobGroups` scenes, feature
     /// `quadratic-mixed-groups`.
     "quadratic-mixed-groups",
     trace_quadratic_mixed_groups,
-    kernel::render_quadratic_mixed_leg_in::<kernel::GroupsOnly>
+    kernel::render_quadratic_mixed_leg_in::<kernel::GroupsOnly>,
+    taylor_quadratic_mixed_groups,
+    kernel::fill_quadratic_taylor_in::<kernel::GroupsOnly>
 );
 
 leg_entry_point!(
@@ -411,11 +495,7 @@ leg_entry_point!(
     feature = "linear-bottom-up-blobs",
     feature = "linear-bottom-up-groups",
     feature = "quadratic-bottom-up-blobs",
-    feature = "quadratic-bottom-up-groups",
-    feature = "linear-mixed-blobs",
-    feature = "linear-mixed-groups",
-    feature = "quadratic-mixed-blobs",
-    feature = "quadratic-mixed-groups"
+    feature = "quadratic-bottom-up-groups"
 ))]
 #[allow(clippy::too_many_arguments)]
 fn leg_entry<R>(

@@ -66,9 +66,14 @@
 //! [`interval_probe`] and [`arith_probe`] check the driver's arithmetic
 //! against the CPU's. The bottom-up and mixed modules are built without
 //! spirv-opt (the driver inlines and optimises them; lavapipe does,
-//! BENCHMARKS.md "GPU", session 28); `scripts/build-spirv.sh` builds the
-//! mixed ones only with `BOUNDTRACE_MIXED_MODULES=1` (lavapipe needs
-//! 8-9 min and ≈ 20 GB per mixed pipeline). `scalis-quadratic` and the
+//! BENCHMARKS.md "GPU", session 28). A mixed module has two entry points:
+//! `trace_{linear,quadratic}_mixed_*`, the legs with the bottom-up side of
+//! each step's bound, which pause before a step until the Taylor side is
+//! in the pixel's [`MixedLeg`], and `taylor_{linear,quadratic}_mixed_*`,
+//! dispatched after each leg, which computes it
+//! ([`boundtrace_tracer::fill_taylor_cache`]): two pipelines of one bound
+//! each, where one with both took lavapipe ≈ 20 GB and 8-9 min to compile
+//! (BENCHMARKS.md "GPU", sessions 28 and 32). `scalis-quadratic` and the
 //! per-primitive `interval` bisection on SCALIS skeletons have a module of
 //! their own with two entry points, `trace_scalis` and
 //! [`SCALIS_TIGHT_ENTRY`] (built without spirv-opt): [`GpuScene::from_scene`]
@@ -143,7 +148,8 @@
 use boundtrace_fields::PointBlob;
 use boundtrace_fields::scalis::{SCALIS_SEGMENT_WORDS, ScalisSegment};
 use boundtrace_gpu_kernel::{
-    Constants, HitOut, PHASE_DONE, PHASE_SHADING, PixelLeg, PixelOut, ScalisLeg, WORKGROUP,
+    Constants, HitOut, MixedLeg, PHASE_DONE, PHASE_SHADING, PixelLeg, PixelOut, ScalisLeg,
+    WORKGROUP,
 };
 pub use boundtrace_gpu_kernel::{MAX_GPU_ROOTS, SceneKind};
 use boundtrace_tracer::camera::Camera;
@@ -745,6 +751,9 @@ pub struct GpuTracer {
     /// [`SCALIS_TIGHT_ENTRY`]'s pipeline (dispatched after each
     /// `trace_scalis` leg), created on first use.
     scalis_tight: OnceLock<Result<wgpu::ComputePipeline, String>>,
+    /// The mixed methods' Taylor pipelines (`taylor_*`, dispatched after
+    /// each leg of their `trace_*`), by leg module, created on first use.
+    taylor: [OnceLock<Result<wgpu::ComputePipeline, String>>; LEG_MODULES],
     /// Held while a pipeline created on first use compiles, and, on a CPU
     /// adapter, during a pipeline's first dispatch (lavapipe compiles its
     /// machine code then, in gigabytes: one at a time).
@@ -817,6 +826,42 @@ pub const SCALIS_TIGHT_ENTRY: &str = "trace_scalis_tight";
 /// interval stacks).
 const SCALIS_LEG_WORDS: usize = core::mem::size_of::<ScalisLeg>() / 4;
 
+/// Words of a [`MixedLeg`] (the mixed methods' legs, with the Taylor
+/// part of their next step's bound).
+const MIXED_LEG_WORDS: usize = core::mem::size_of::<MixedLeg>() / 4;
+
+/// The entry point dispatched after each leg of a mixed method's
+/// `trace_*` entry point `entry` (`trace_linear_mixed_blobs` →
+/// `taylor_linear_mixed_blobs`): the Taylor side of the paused pixels'
+/// next steps, in the same module.
+fn taylor_entry(entry: &str) -> String {
+    format!("taylor_{}", entry.trim_start_matches("trace_"))
+}
+
+/// Which per-pixel leg record (binding 7) an entry point keeps.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum LegKind {
+    /// [`PixelLeg`]: sphere, segment, Taylor and bottom-up methods.
+    Pixel,
+    /// [`MixedLeg`]: the mixed methods.
+    Mixed,
+    /// [`ScalisLeg`]: the SCALIS module.
+    Scalis,
+}
+
+impl LegKind {
+    /// The legs of `method` on scenes of `kind`.
+    fn of(method: Method, kind: SceneKind) -> Self {
+        if kind == SceneKind::Scalis {
+            Self::Scalis
+        } else if matches!(method, Method::LinearMixed | Method::QuadraticMixed) {
+            Self::Mixed
+        } else {
+            Self::Pixel
+        }
+    }
+}
+
 /// A leg record's words and where its phase is in them.
 #[derive(Clone, Copy, Debug)]
 struct LegLayout {
@@ -825,18 +870,23 @@ struct LegLayout {
 }
 
 impl LegLayout {
-    /// The legs of the entry points for scenes of `kind`.
-    fn of(kind: SceneKind) -> Self {
-        if kind == SceneKind::Scalis {
-            Self {
+    /// The legs of `kind`.
+    fn of(kind: LegKind) -> Self {
+        match kind {
+            LegKind::Scalis => Self {
                 words: SCALIS_LEG_WORDS,
                 phase_at: core::mem::offset_of!(ScalisLeg, phase) / 4,
-            }
-        } else {
-            Self {
+            },
+            LegKind::Mixed => Self {
+                words: MIXED_LEG_WORDS,
+                phase_at: (core::mem::offset_of!(MixedLeg, leg)
+                    + core::mem::offset_of!(PixelLeg, phase))
+                    / 4,
+            },
+            LegKind::Pixel => Self {
                 words: LEG_WORDS,
                 phase_at: core::mem::offset_of!(PixelLeg, phase) / 4,
-            }
+            },
         }
     }
 }
@@ -896,7 +946,7 @@ impl GpuTracer {
         legs: &[(Method, SceneKind, &[u8])],
     ) -> Result<Self, GpuError> {
         check_magic(bytes)?;
-        check_layout_of(bytes, "the main module", false)?;
+        check_layout_of(bytes, "the main module", LegKind::Pixel)?;
         let mut modules: [Option<Vec<u8>>; LEG_MODULES] = Default::default();
         for &(method, kind, m) in legs {
             let slot = leg_slot(method, kind).ok_or_else(|| {
@@ -914,7 +964,7 @@ impl GpuTracer {
                 )));
             }
             check_magic(m)?;
-            check_layout_of(m, &leg_module(slot).2, kind == SceneKind::Scalis)?;
+            check_layout_of(m, &leg_module(slot).2, LegKind::of(method, kind))?;
             modules[slot] = Some(m.to_vec());
         }
         let mut gpu = pollster::block_on(Self::create(bytes))?;
@@ -961,6 +1011,7 @@ impl GpuTracer {
             sphere: OnceLock::new(),
             legs: Default::default(),
             scalis_tight: OnceLock::new(),
+            taylor: Default::default(),
             compiling: std::sync::Mutex::new(()),
             dispatched: std::sync::Mutex::new(Vec::new()),
             general: OnceLock::new(),
@@ -1045,17 +1096,23 @@ impl GpuTracer {
                 self.leg_modules[slot].as_ref().filter(|m| has(m, &entry))
             };
             if let Some(module) = module {
-                let follow = if kind == SceneKind::Scalis {
-                    if !has(module, SCALIS_TIGHT_ENTRY) {
-                        return Err(unavailable(format!(
-                            "the module with `{entry}` lacks `{SCALIS_TIGHT_ENTRY}`: rebuild it \
-                             ({BUILD_COMMAND})"
-                        )));
+                let follow = match LegKind::of(method, kind) {
+                    LegKind::Scalis | LegKind::Mixed => {
+                        let (cell, after) = if kind == SceneKind::Scalis {
+                            (&self.scalis_tight, SCALIS_TIGHT_ENTRY.to_string())
+                        } else {
+                            (&self.taylor[slot], taylor_entry(&entry))
+                        };
+                        if !has(module, &after) {
+                            return Err(unavailable(format!(
+                                "the module with `{entry}` lacks `{after}`: rebuild it \
+                                 ({BUILD_COMMAND})"
+                            )));
+                        }
+                        let p = self.lazy_pipeline(cell, module, &after);
+                        Some(p.as_ref().map_err(|e| unavailable(e.clone()))?)
                     }
-                    let p = self.lazy_pipeline(&self.scalis_tight, module, SCALIS_TIGHT_ENTRY);
-                    Some(p.as_ref().map_err(|e| unavailable(e.clone()))?)
-                } else {
-                    None
+                    LegKind::Pixel => None,
                 };
                 // one pipeline per entry point (both SCALIS methods share one)
                 let first = LEG_MODULE_LIST
@@ -1220,7 +1277,7 @@ impl GpuTracer {
         let (pix_words, hit_words, dispatches, dispatch) = self.run(
             (pipeline, follow),
             resumable,
-            LegLayout::of(scene.kind),
+            LegLayout::of(LegKind::of(settings.method, scene.kind)),
             &c,
             &data,
             n,
@@ -1387,7 +1444,8 @@ impl GpuTracer {
             let scope = dev.push_error_scope(wgpu::ErrorFilter::Validation);
             let mut enc =
                 dev.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
-            // the leg, then (SCALIS) the tight stages it left, in order
+            // the leg, then (SCALIS) the tight stages it left or (mixed)
+            // the Taylor side of the paused pixels' next steps, in order
             for p in [Some(pipeline), follow].into_iter().flatten() {
                 let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
                 pass.set_pipeline(p);
@@ -1747,14 +1805,11 @@ enum BufferLayout {
 /// (`trace_scalis`): binding 2 holds the frame's primitive lists
 /// (`PrimitiveHit<f32>`), binding 3 the segments (`ScalisSegment<f32>`,
 /// [`SCALIS_SEGMENT_WORDS`] words each).
-fn host_layouts_of(scalis: bool) -> [(u32, BufferLayout); 8] {
+fn host_layouts_of(legs: LegKind) -> [(u32, BufferLayout); 8] {
     use core::mem::size_of;
     let size = |n: usize| n as u32;
-    let legs = if scalis {
-        size_of::<ScalisLeg>()
-    } else {
-        size_of::<PixelLeg>()
-    };
+    let scalis = legs == LegKind::Scalis;
+    let legs = 4 * LegLayout::of(legs).words;
     let (floats, blobs) = if scalis {
         (
             BufferLayout::Array(size(size_of::<PrimitiveHit<f32>>())),
@@ -1889,13 +1944,13 @@ fn module_layouts(words: &[u32]) -> Vec<(u32, BufferLayout)> {
 /// size: a module built from other sources than this host.
 #[cfg(test)]
 fn check_layout(bytes: &[u8], what: &str) -> Result<(), GpuError> {
-    check_layout_of(bytes, what, false)
+    check_layout_of(bytes, what, LegKind::Pixel)
 }
 
-/// [`check_layout`] against [`host_layouts_of`]`(scalis)`.
-fn check_layout_of(bytes: &[u8], what: &str, scalis: bool) -> Result<(), GpuError> {
+/// [`check_layout`] against [`host_layouts_of`]`(legs)`.
+fn check_layout_of(bytes: &[u8], what: &str, legs: LegKind) -> Result<(), GpuError> {
     let words = le_words(bytes);
-    let host = host_layouts_of(scalis);
+    let host = host_layouts_of(legs);
     for (b, layout) in module_layouts(&words) {
         let Some(&(_, want)) = host.iter().find(|(hb, _)| *hb == b) else {
             continue;
@@ -2333,8 +2388,9 @@ mod tests {
         assert!(script.contains("for method in segment linear-taylor quadratic-taylor; do"));
         assert!(script.contains("for kind in blobs groups; do"));
         assert!(script.contains("module sphere-blobtree \"${out%.spv}-sphere-blobtree.spv\""));
-        assert!(script.contains("methods=\"linear-bottom-up quadratic-bottom-up\""));
-        assert!(script.contains("methods=\"$methods linear-mixed quadratic-mixed\""));
+        assert!(script.contains(
+            "methods=\"linear-bottom-up quadratic-bottom-up linear-mixed quadratic-mixed\""
+        ));
         assert!(
             script.contains("module \"$method-$kind\" \"${out%.spv}-$method-$kind.spv\" no-opt")
         );
@@ -2347,7 +2403,16 @@ mod tests {
              #[spirv(compute(threads(8, 8)))]\npub fn {SCALIS_TIGHT_ENTRY}("
         )));
         for slot in 0..LEG_MODULES {
-            let (_, kind, name) = leg_module(slot);
+            let (method, kind, name) = leg_module(slot);
+            // the mixed methods' Taylor entry points, in the same module
+            if LegKind::of(method, kind) == LegKind::Mixed {
+                let after = taylor_entry(&leg_entry(slot));
+                assert!(after.starts_with("taylor_") && after.ends_with(&name.replace('-', "_")));
+                assert!(
+                    shader.contains(&format!("    {after},\n    kernel::fill_")),
+                    "{after}"
+                );
+            }
             assert!(features.contains(&format!("\n{name} = []")), "{name}");
             if kind == SceneKind::Scalis {
                 // its own entry point (other bindings), not the macro's
@@ -2375,12 +2440,12 @@ mod tests {
         {
             words[i * LEG_WORDS + phase_at] = phase;
         }
-        let layout = LegLayout::of(SceneKind::Blobs);
+        let layout = LegLayout::of(LegKind::Pixel);
         assert_eq!(leg_progress(&words, layout), (2, 1));
         // A fresh (zero-filled) frame: every pixel pending, none shading.
         assert_eq!(leg_progress(&vec![0; 3 * LEG_WORDS], layout), (3, 0));
         // The SCALIS legs: phase first, then the tracer's state.
-        let layout = LegLayout::of(SceneKind::Scalis);
+        let layout = LegLayout::of(LegKind::Scalis);
         let mut words = vec![0u32; 3 * SCALIS_LEG_WORDS];
         words[SCALIS_LEG_WORDS] = PHASE_DONE;
         words[2 * SCALIS_LEG_WORDS] = PHASE_SHADING;
@@ -2398,6 +2463,18 @@ mod tests {
             core::mem::size_of::<boundtrace_tracer::march::MarchState<f32>>() / 4 + 2,
             "PixelLeg = MarchState + phase + shaded"
         );
+        // The mixed legs: a `PixelLeg`, then the Taylor cache.
+        let layout = LegLayout::of(LegKind::Mixed);
+        assert_eq!(layout.phase_at, core::mem::offset_of!(PixelLeg, phase) / 4);
+        assert_eq!(
+            MIXED_LEG_WORDS,
+            LEG_WORDS + core::mem::size_of::<boundtrace_tracer::march::TaylorCache<f32>>() / 4
+        );
+        // (the size the kernel's docs give)
+        assert_eq!(MIXED_LEG_WORDS, 36);
+        let mut words = vec![0u32; 2 * MIXED_LEG_WORDS];
+        words[MIXED_LEG_WORDS + layout.phase_at] = PHASE_DONE;
+        assert_eq!(leg_progress(&words, layout), (1, 0));
     }
 
     #[test]
@@ -2588,22 +2665,22 @@ mod tests {
             );
             return;
         }
-        let mut paths = vec![(main.clone(), false)];
+        let mut paths = vec![(main.clone(), LegKind::Pixel)];
         paths.extend((0..LEG_MODULES).map(|slot| {
-            let scalis = leg_module(slot).1 == SceneKind::Scalis;
-            (leg_path_beside(&main, slot), scalis)
+            let (method, kind, _) = leg_module(slot);
+            (leg_path_beside(&main, slot), LegKind::of(method, kind))
         }));
-        for (path, scalis) in paths.into_iter().filter(|(p, _)| p.is_file()) {
+        for (path, legs) in paths.into_iter().filter(|(p, _)| p.is_file()) {
             let bytes = std::fs::read(&path).unwrap();
             let found = module_layouts(&le_words(&bytes));
-            for (b, want) in host_layouts_of(scalis) {
+            for (b, want) in host_layouts_of(legs) {
                 assert!(
                     found.contains(&(b, want)),
                     "{}: binding {b}: {want:?} not among {found:?}",
                     path.display()
                 );
             }
-            check_layout_of(&bytes, "module", scalis).unwrap();
+            check_layout_of(&bytes, "module", legs).unwrap();
         }
     }
 

@@ -15,15 +15,12 @@
 //! counts identical on ≥ 99 % of pixels, and the trace status identical on
 //! ≥ 99.9 %.
 //!
-//! Sphere tracing, segment tracing and the forward Taylor and bottom-up
-//! methods (the module's `trace_sphere` and the leg modules'
-//! `trace_segment_*`, `trace_{linear,quadratic}_taylor_*` and
-//! `trace_{linear,quadratic}_bottom_up_*` entry points) run in CI on
-//! lavapipe, every pixel compared. The mixed forward methods' tests
-//! (`trace_{linear,quadratic}_mixed_*`) are ignored: lavapipe needs 8-9 min
-//! and ≈ 20 GB per mixed pipeline (BENCHMARKS.md "GPU", session 28); run
-//! them with `BOUNDTRACE_MIXED_MODULES=1 scripts/build-spirv.sh` and
-//! `cargo test -p boundtrace-gpu --test difftest -- --ignored mixed`.
+//! Sphere tracing, segment tracing and the forward Taylor, bottom-up and
+//! mixed methods (the module's `trace_sphere` and the leg modules'
+//! `trace_segment_*`, `trace_{linear,quadratic}_taylor_*`,
+//! `trace_{linear,quadratic}_bottom_up_*` and
+//! `trace_{linear,quadratic}_mixed_*` with `taylor_{linear,quadratic}_mixed_*`
+//! entry points) run in CI on lavapipe, every pixel compared.
 //! Needs the module and a Vulkan adapter
 //! (lavapipe: `apt-get install mesa-vulkan-drivers libvulkan1`; both done
 //! by `scripts/gpu-test.sh`). Without either the tests FAIL when `CI` is
@@ -505,23 +502,18 @@ fn quadratic_bottom_up_matches_the_cpu_in_both_modes() {
 }
 
 /// Forward linear mixed bounds (bottom-up and Taylor, the tighter side of
-/// each; `trace_linear_mixed_*`) against the CPU on every pixel of the
-/// scenes ([`SCENES`]), opaque and transparent, with the thresholds.
-///
-/// Ignored: lavapipe takes 8-9 min and ≈ 20 GB to compile each mixed
-/// pipeline (BENCHMARKS.md "GPU", session 28), beyond CI's time budget.
-/// Run with `BOUNDTRACE_MIXED_MODULES=1 scripts/build-spirv.sh`, then
-/// `cargo test -p boundtrace-gpu --test difftest -- --ignored mixed`.
+/// each: `trace_linear_mixed_*` legs with the Taylor side filled by
+/// `taylor_linear_mixed_*` between them) against the CPU on every pixel of
+/// the scenes ([`SCENES`]), opaque and transparent, with the issue's
+/// thresholds.
 #[test]
-#[ignore = "lavapipe: 8-9 min and ~20 GB per mixed pipeline; needs BOUNDTRACE_MIXED_MODULES=1 scripts/build-spirv.sh"]
 fn linear_mixed_matches_the_cpu_in_both_modes() {
     run(&[Method::LinearMixed], true);
 }
 
 /// [`linear_mixed_matches_the_cpu_in_both_modes`] for forward quadratic
-/// mixed bounds (`trace_quadratic_mixed_*`); ignored likewise.
+/// mixed bounds (`trace_quadratic_mixed_*`, `taylor_quadratic_mixed_*`).
 #[test]
-#[ignore = "lavapipe: 8-9 min and ~20 GB per mixed pipeline; needs BOUNDTRACE_MIXED_MODULES=1 scripts/build-spirv.sh"]
 fn quadratic_mixed_matches_the_cpu_in_both_modes() {
     run(&[Method::QuadraticMixed], true);
 }

@@ -408,7 +408,16 @@ pub fn trace_resume_in<T: Real, F: Field<T>, G: march::StepGuard>(
         march::sphere_run(field, ray, span, mode, params, slots, state, guard)
     } else {
         march::window_run::<march::AnyWindow, _, _, _>(
-            field, ray, span, mode, params, slots, state, guard, method, (),
+            field,
+            ray,
+            span,
+            mode,
+            params,
+            slots,
+            state,
+            guard,
+            method,
+            (),
         )
     };
     Leg::of(next)
