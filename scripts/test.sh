@@ -19,7 +19,7 @@ scripts/nightly.sh >/dev/null
 
 # The GPU preparation (lavapipe when no Vulkan driver, and the SPIR-V
 # modules: nine with spirv-opt, ~40 min cold on 2 cores, one core at a time, with peaks
-# of 14-18 GB, and four in seconds without it) runs in the background from here, while the CPU-only steps
+# of 14-18 GB, and nine in seconds without it: bottom-up, mixed, SCALIS) runs in the background from here, while the CPU-only steps
 # below run beside it on one cargo job (so that the two fit in memory).
 # The GPU tests wait until the last module is built: beside a module build
 # even the sphere difftest left too little of this machine's 24 GB (a
@@ -159,6 +159,13 @@ gpu_tests_beside() {
     done_tests+=("$1" "$2")
 }
 gpu_tests_beside linear_bottom_up_matches_the_cpu_in_both_modes quadratic_bottom_up_matches_the_cpu_in_both_modes
+# The mixed methods likewise: two pipelines per module (the bottom-up and
+# the Taylor side), 7.5 and 9.6 GB peak, about 8 min each (BENCHMARKS.md
+# "GPU", session 32).
+gpu_tests_beside linear_mixed_matches_the_cpu_in_both_modes quadratic_mixed_matches_the_cpu_in_both_modes
+# The per-primitive `interval` on the SCALIS skeletons (the `scalis`
+# module's two pipelines: about 4.5 min and 8.6 GB on lavapipe).
+gpu_tests scalis_interval_matches_the_cpu_in_both_modes
 
 step "cargo test -p boundtrace-gpu: every other test (unit tests, probes, the rest of the difftests)"
 skips=()

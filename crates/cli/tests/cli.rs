@@ -461,6 +461,25 @@ fn gpu_backend_renders_sphere_tracing() {
     assert!(o.status.success(), "{}", stderr(&o));
     let png = std::fs::read(&default_png).unwrap();
     assert!(png.len() > 8 && png[1..4] == *b"PNG", "not a PNG");
+    // The mixed methods too (two pipelines per module since session 32).
+    let mixed_png = d.path("mixed.png");
+    let o = run(&[
+        "render",
+        &scene,
+        "-o",
+        &mixed_png,
+        "--backend",
+        "gpu",
+        "--method",
+        "quadratic-mixed",
+        "--size",
+        "8x8",
+        "--quiet",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let png = std::fs::read(&mixed_png).unwrap();
+    assert!(png.len() > 8 && png[1..4] == *b"PNG", "not a PNG");
+    // A method without GPU code is refused, and no file is written.
     let no = d.path("no.png");
     let o = run(&[
         "render",
@@ -470,12 +489,12 @@ fn gpu_backend_renders_sphere_tracing() {
         "--backend",
         "gpu",
         "--method",
-        "quadratic-mixed",
+        "affine",
         "--size",
         "8x8",
     ]);
     let err = stderr(&o);
-    assert_fails(&o, 1, &["GPU backend:", "quadratic-mixed"]);
+    assert_fails(&o, 1, &["GPU backend:", "affine"]);
     assert!(!Path::new(&no).exists(), "{err}");
     // A blobtree (a standard scene by name) renders with one program per
     // 8 × 8 tile (`TilePrograms`): the 11,110-primitive `aggregate-4` too.

@@ -155,17 +155,20 @@ pub fn density_bounds<T: Real>(
     // that the relative widening below only has to cover the power and the
     // products.
     let slack_x = T::EPSILON * T::from_f64(8.0);
+    // `powi_std`: the standard library's products in the same order on
+    // every target, so that the widening covers the same roundings on a
+    // GPU as on the CPU (no driver `Pow` involved).
     let k_up = |h2: T| {
         let x = T::ONE - h2 * inv_s2 + slack_x;
         if x > T::ZERO {
-            x.min(T::ONE).powi(m)
+            x.min(T::ONE).powi_std(m)
         } else {
             T::ZERO
         }
     };
     let k_dn = |h2: T| {
         let x = T::ONE - h2 * inv_s2 - slack_x;
-        if x > T::ZERO { x.powi(m) } else { T::ZERO }
+        if x > T::ZERO { x.powi_std(m) } else { T::ZERO }
     };
     let n = T::from_f64(f64::from(cells));
     let (mut lo, mut hi) = (T::ZERO, T::ZERO);
