@@ -1055,7 +1055,7 @@ impl<const QUADRATIC: bool> WindowBounds for MixedWindow<QUADRATIC> {
 /// pipeline of its own, run between two legs, each pipeline holds one
 /// bound. The trace is the same, bit for bit: the same function builds the
 /// Taylor bound on the same window, and the step combines it with the
-/// bottom-up bound as [`MixedWindow`] does.
+/// bottom-up bound as an uninterrupted mixed trace does.
 ///
 /// `#[repr(C)]`, 17 words for `f32`: a GPU keeps one per pixel beside the
 /// pixel's [`MarchState`].
@@ -1070,7 +1070,7 @@ pub struct TaylorCache<T> {
     pub filled: u32,
     /// `1` when the field has a Taylor bound on `[t, e]` (the cached
     /// `linear` or `quadratic` one), `0` when it has none (the step uses
-    /// the bottom-up bound alone, as [`MixedWindow`] does).
+    /// the bottom-up bound alone, as an uninterrupted mixed trace does).
     pub some: u32,
     /// The linear Taylor bound ([`Method::LinearMixed`]).
     pub linear: ForwardLinear<T>,
