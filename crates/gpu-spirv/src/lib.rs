@@ -2653,7 +2653,11 @@ mod tests {
 
     /// The modules `scripts/build-spirv.sh` built (required under
     /// `CI=true`) declare exactly the host's layout for every tracing
-    /// buffer, so the check above sees real modules' layouts.
+    /// buffer, so the check above sees real modules' layouts. Bindings 1
+    /// and 2 (the blobtree words and parameters, or the SCALIS list
+    /// offsets and lists) may be absent from a module whose entry points
+    /// never read them (the mixed `Blobs` modules: the compiler drops
+    /// them); where present they must match.
     #[test]
     fn built_modules_have_the_host_layout() {
         let main = default_spirv_path();
@@ -2674,6 +2678,10 @@ mod tests {
             let bytes = std::fs::read(&path).unwrap();
             let found = module_layouts(&le_words(&bytes));
             for (b, want) in host_layouts_of(legs) {
+                let optional = b == 1 || b == 2;
+                if optional && !found.iter().any(|&(fb, _)| fb == b) {
+                    continue;
+                }
                 assert!(
                     found.contains(&(b, want)),
                     "{}: binding {b}: {want:?} not among {found:?}",
