@@ -163,9 +163,10 @@ gpu_tests_beside linear_bottom_up_matches_the_cpu_in_both_modes quadratic_bottom
 # the Taylor side), 7.5 and 9.6 GB peak, about 8 min each (BENCHMARKS.md
 # "GPU", session 32).
 gpu_tests_beside linear_mixed_matches_the_cpu_in_both_modes quadratic_mixed_matches_the_cpu_in_both_modes
-# The per-primitive `interval` on the SCALIS skeletons (the `scalis`
-# module's two pipelines: about 4.5 min and 8.6 GB on lavapipe).
-gpu_tests scalis_interval_matches_the_cpu_in_both_modes
+# `scalis-quadratic` and the per-primitive `interval` on the SCALIS
+# skeletons (the `scalis` module's two pipelines, shared by both methods:
+# about 4.5 min and 8.6 GB on lavapipe).
+gpu_tests scalis_methods_match_the_cpu_in_both_modes
 
 step "cargo test -p boundtrace-gpu: every other test (unit tests, probes, the rest of the difftests)"
 skips=()

@@ -1471,6 +1471,12 @@ impl GpuTracer {
             }
             let mut words = read_back(dev, &legs_back)?;
             words.truncate(pixels * leg.words);
+            #[cfg(test)]
+            tests::LEG_SNAPSHOTS.with(|s| {
+                if let Some(v) = s.borrow_mut().as_mut() {
+                    v.push(words.clone());
+                }
+            });
             let (pending, shading) = leg_progress(&words, leg);
             if pending == 0 {
                 break;
@@ -2264,6 +2270,208 @@ mod tests {
     use super::*;
     use boundtrace_tracer::scenes::DEFAULT_SEED;
     use core::mem::size_of;
+
+    std::thread_local! {
+        /// When `Some`, [`GpuTracer::run`] pushes the legs' words after
+        /// every dispatch (this thread's; for
+        /// `scalis_legs_match_the_host_kernel_leg_by_leg`).
+        pub(super) static LEG_SNAPSHOTS: std::cell::RefCell<Option<Vec<Vec<u32>>>> =
+            const { std::cell::RefCell::new(None) };
+    }
+
+    /// The words of a leg, as the GPU keeps it in its legs' buffer.
+    fn leg_words(leg: &ScalisLeg) -> Vec<u32> {
+        let n = size_of::<ScalisLeg>() / 4;
+        #[allow(unsafe_code)]
+        // SAFETY: `ScalisLeg` is `#[repr(C)]` of `u32`s and `f32`s, no padding.
+        let w = unsafe { std::slice::from_raw_parts(std::ptr::from_ref(leg).cast::<u32>(), n) };
+        w.to_vec()
+    }
+
+    /// The name of word `w` of a [`ScalisLeg`]: `phase`, `shaded`, a
+    /// [`ScalisWalk`](boundtrace_tracer::scalis::ScalisWalk) field and the
+    /// word in it (`tight+4`), or a stack entry's point and word
+    /// (`stack[2][1]+0`: the second end's `t`).
+    fn leg_word_name(w: usize) -> String {
+        use boundtrace_tracer::scalis::{ScalisPoint, ScalisState, ScalisWalk};
+        use core::mem::offset_of;
+        let state = offset_of!(ScalisLeg, state) / 4;
+        if w < state {
+            return ["phase", "shaded"][w].to_string();
+        }
+        let s = w - state;
+        let stack = offset_of!(ScalisState<f32>, stack) / 4;
+        let point = size_of::<ScalisPoint<f32>>() / 4;
+        if s >= stack {
+            let e = s - stack;
+            return format!(
+                "stack[{}][{}]+{}",
+                e / (2 * point),
+                e / point % 2,
+                e % point
+            );
+        }
+        let fields: [(&str, usize); 17] = [
+            ("started", offset_of!(ScalisWalk<f32>, started)),
+            ("in_region", offset_of!(ScalisWalk<f32>, in_region)),
+            ("first", offset_of!(ScalisWalk<f32>, first)),
+            ("next", offset_of!(ScalisWalk<f32>, next)),
+            ("region", offset_of!(ScalisWalk<f32>, region)),
+            ("roots", offset_of!(ScalisWalk<f32>, roots)),
+            ("stats", offset_of!(ScalisWalk<f32>, stats)),
+            ("sp", offset_of!(ScalisWalk<f32>, sp)),
+            ("cur_pending", offset_of!(ScalisWalk<f32>, cur_pending)),
+            ("kind", offset_of!(ScalisWalk<f32>, kind)),
+            ("nreq", offset_of!(ScalisWalk<f32>, nreq)),
+            ("req", offset_of!(ScalisWalk<f32>, req)),
+            ("fix", offset_of!(ScalisWalk<f32>, fix)),
+            ("cur", offset_of!(ScalisWalk<f32>, cur)),
+            ("split", offset_of!(ScalisWalk<f32>, split)),
+            ("pair", offset_of!(ScalisWalk<f32>, pair)),
+            ("tight", offset_of!(ScalisWalk<f32>, tight)),
+        ];
+        // the field starting last at or before `s`
+        let mut name = "?";
+        let mut at = 0;
+        for (f, o) in fields {
+            if o / 4 <= s && o / 4 >= at {
+                name = f;
+                at = o / 4;
+            }
+        }
+        format!("{name}+{}", s - at)
+    }
+
+    /// The SCALIS legs on the adapter, leg by leg, against the host's: in
+    /// legs of one step, the words of every pixel's [`ScalisLeg`] after
+    /// each dispatch (both pipelines) equal those the host kernel
+    /// (`render_scalis_leg`, then `render_scalis_tight_leg`) leaves after
+    /// the same leg, for `scalis-quadratic` and `interval` on the SCALIS
+    /// skeletons, both modes. Where a pixel differs it prints the first
+    /// differing leg's words by name (`leg_word_name`), both sides, and
+    /// what the leg changed on the host: the tool that found the oracle
+    /// lavapipe miscompiled (BENCHMARKS.md "GPU", session 33).
+    /// Ignored: the difftests (`scalis_methods_match_the_cpu_in_both_modes`)
+    /// cover the frames in CI; this one reads every pixel's 3,344 bytes
+    /// back after every dispatch (a few minutes on lavapipe). Run it with
+    /// the SCALIS module built (`scripts/build-spirv.sh`) and
+    /// `cargo test -p boundtrace-gpu --lib -- --ignored scalis_legs_match`.
+    #[test]
+    #[ignore = "a diagnostic of the SCALIS difftests: minutes on lavapipe, needs the scalis module"]
+    fn scalis_legs_match_the_host_kernel_leg_by_leg() {
+        use boundtrace_gpu_kernel as k;
+        use boundtrace_tracer::Root;
+        let gpu = GpuTracer::new().unwrap();
+        let size = 12;
+        let mut differ = Vec::new();
+        for name in ["scalis-tree", "scalis-random", "scalis-foam"] {
+            let scene = Scene::<f32>::build(name, DEFAULT_SEED).unwrap();
+            let data = GpuScene::from_scene(&scene).unwrap();
+            let camera = Camera::framing(scene.bounds(), [0.3, -0.4, -1.0], 40.0, 1.0).unwrap();
+            for (method, mode) in [
+                (Method::ScalisQuadratic, Mode::Opaque),
+                (Method::ScalisQuadratic, Mode::Transparent),
+                (Method::Interval, Mode::Transparent),
+            ] {
+                let settings = RenderSettings::new(size, size, method)
+                    .unwrap()
+                    .with_mode(mode)
+                    .with_max_roots(MAX_GPU_ROOTS)
+                    .unwrap();
+                let slots = match mode {
+                    Mode::Opaque => 1,
+                    Mode::Transparent => MAX_GPU_ROOTS,
+                };
+                LEG_SNAPSHOTS.with(|s| *s.borrow_mut() = Some(Vec::new()));
+                let rendered = gpu.render_in_legs(&data, &camera, &settings, 1);
+                let snaps = LEG_SNAPSHOTS.with(|s| s.borrow_mut().take()).unwrap();
+                let (_, dispatches) = rendered.unwrap();
+                eprintln!("{name} {method} {mode:?}: {dispatches} dispatches");
+                let c = Constants {
+                    leg_steps: 1,
+                    ..data.constants(&camera, &settings, slots)
+                };
+                let [offsets, lists, segments] = data.buffers(&camera, &settings);
+                let lists: Vec<PrimitiveHit<f32>> = read_as(&lists);
+                let segments: Vec<ScalisSegment<f32>> = read_as(&segments);
+                let words = size_of::<ScalisLeg>() / 4;
+                let none = Root {
+                    t: 0.0,
+                    side: Side::Touch,
+                };
+                for i in 0..(size * size) as usize {
+                    let (x, y) = (i as u32 % size, i as u32 / size);
+                    // each side's distinct states in order (a dispatch
+                    // that stopped a pixel at the loop limit repeats one)
+                    let mut gpu_seq: Vec<&[u32]> = Vec::new();
+                    for s in &snaps {
+                        let w = &s[i * words..(i + 1) * words];
+                        if gpu_seq.last() != Some(&w) {
+                            gpu_seq.push(w);
+                        }
+                    }
+                    let mut roots = vec![none; slots as usize];
+                    let mut hits = vec![HitOut::default(); slots as usize];
+                    let (mut leg, mut p) = (ScalisLeg::default(), PixelOut::default());
+                    let mut host_seq: Vec<Vec<u32>> = Vec::new();
+                    while leg.phase != PHASE_DONE {
+                        assert!(host_seq.len() < 100_000, "({x}, {y}): no progress");
+                        k::render_scalis_leg(
+                            &c, &offsets, &lists, &segments, x, y, &mut roots, &mut hits, 0,
+                            &mut leg, &mut p,
+                        );
+                        k::render_scalis_tight_leg(&c, &offsets, &lists, &segments, x, y, &mut leg);
+                        let w = leg_words(&leg);
+                        if host_seq.last() != Some(&w) {
+                            host_seq.push(w);
+                        }
+                    }
+                    let same = gpu_seq.len() == host_seq.len()
+                        && gpu_seq
+                            .iter()
+                            .zip(&host_seq)
+                            .all(|(g, h)| *g == h.as_slice());
+                    if same {
+                        continue;
+                    }
+                    differ.push(format!("{name} {method} {mode:?} ({x}, {y})"));
+                    let l = (0..gpu_seq.len().min(host_seq.len()))
+                        .find(|&l| gpu_seq[l] != host_seq[l].as_slice())
+                        .unwrap_or(gpu_seq.len().min(host_seq.len()));
+                    eprintln!(
+                        "{name} {method} {mode:?} ({x}, {y}): leg {l} of {} (GPU) / {} (host) differs",
+                        gpu_seq.len(),
+                        host_seq.len()
+                    );
+                    if l == 0 || l >= gpu_seq.len().min(host_seq.len()) {
+                        continue;
+                    }
+                    let prev = &host_seq[l - 1];
+                    let changed: Vec<String> = (0..words)
+                        .filter(|&w| prev[w] != host_seq[l][w])
+                        .map(|w| format!("{}={:e}", leg_word_name(w), f32::from_bits(prev[w])))
+                        .collect();
+                    eprintln!("   the host's leg changed: {}", changed.join(" "));
+                    for w in 0..words {
+                        let (a, b) = (gpu_seq[l][w], host_seq[l][w]);
+                        if a != b {
+                            eprintln!(
+                                "   {:24} GPU {:>14e} ({a:#010x})  host {:>14e} ({b:#010x})",
+                                leg_word_name(w),
+                                f32::from_bits(a),
+                                f32::from_bits(b)
+                            );
+                        }
+                    }
+                }
+            }
+        }
+        assert!(
+            differ.is_empty(),
+            "{} pixels differ: {differ:?}",
+            differ.len()
+        );
+    }
 
     #[test]
     fn blob_layout_is_seven_words() {

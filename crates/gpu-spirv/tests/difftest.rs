@@ -530,32 +530,19 @@ const SCALIS_SCENES: [(&str, u32); 3] = [
     ("scalis-foam", 16),
 ];
 
-/// The per-primitive `interval` bisection on the SCALIS skeletons (the
-/// `scalis` module's `trace_scalis` and `trace_scalis_tight`, over the
-/// frame's primitive lists built on the host), both modes, every pixel
-/// against the CPU renderer's `render_scene` (which builds the same lists
-/// per ray): since session 32 every pixel equals the CPU's (records, roots,
-/// depths; BENCHMARKS.md "GPU", session 32). lavapipe compiles the two
-/// pipelines in about 4.5 min and 8.6 GB.
+/// `scalis-quadratic` and the per-primitive `interval` bisection on the
+/// SCALIS skeletons (the `scalis` module's `trace_scalis` and
+/// `trace_scalis_tight`, over the frame's primitive lists built on the
+/// host), both modes, every pixel against the CPU renderer's
+/// `render_scene` (which builds the same lists per ray): every pixel
+/// equals the CPU's (records, roots, depths, step counts), `interval`
+/// since session 32 and `scalis-quadratic` since session 33, when the
+/// oracle lost the `Option` and early returns that lavapipe miscompiled
+/// (BENCHMARKS.md "GPU", session 33). lavapipe compiles the two
+/// pipelines, shared by both methods, in about 4.5 min and 8.6 GB.
 #[test]
-fn scalis_interval_matches_the_cpu_in_both_modes() {
-    scalis_methods(&[Method::Interval]);
-}
-
-/// [`scalis_interval_matches_the_cpu_in_both_modes`] for
-/// `scalis-quadratic`. Ignored, not in CI: lavapipe renders every frame
-/// with the CPU's hits and root counts on every pixel, but the step counts
-/// differ on up to 28 of 256 pixels (more than the 1 %) and one
-/// depth by 4.3e-3 (relative): some plain-`f32` value of the Hermite data
-/// or the interpolant's roots differs on lavapipe, while the same kernels
-/// on the host give the CPU's frames bit for bit (ruled out so far: flush
-/// to zero, the driver's `Log`/`Pow`, its `Sqrt`, `powi`; BENCHMARKS.md
-/// "GPU", sessions 30-32). Run it with `scripts/build-spirv.sh` and
-/// `cargo test -p boundtrace-gpu --test difftest -- --ignored scalis_quadratic`.
-#[test]
-#[ignore = "lavapipe renders every SCALIS frame, but its step counts differ from the CPU's on up to 11% of pixels (BENCHMARKS.md \"GPU\", sessions 30-32)"]
-fn scalis_quadratic_matches_the_cpu_in_both_modes() {
-    scalis_methods(&[Method::ScalisQuadratic]);
+fn scalis_methods_match_the_cpu_in_both_modes() {
+    scalis_methods(&[Method::ScalisQuadratic, Method::Interval]);
 }
 
 /// The SCALIS difftest of `methods`: [`SCALIS_SCENES`], both modes.

@@ -1208,71 +1208,84 @@ impl<T: Real> Ctx<'_, T> {
     }
 }
 
-/// The first root in `[0, 1]` of `c0 + c1·u + c2·u²`, if any.
-fn first_unit_root<T: Real>(c0: T, c1: T, c2: T) -> Option<T> {
+/// The first root in `[0, 1]` of `c0 + c1·u + c2·u²` and whether there is
+/// one.
+///
+/// A flag rather than an `Option`, and no early return: with an `Option`
+/// and early returns (here and in [`oracle`]'s loop over the pieces),
+/// lavapipe computed no root for inputs that have one where the oracle
+/// was inlined into the SCALIS module's tracing (while the same function
+/// alone in a probe entry point computed it): one split at a midpoint
+/// instead of at the predicted root, and different step counts
+/// (BENCHMARKS.md "GPU", session 33).
+fn first_unit_root<T: Real>(c0: T, c1: T, c2: T) -> (T, bool) {
     let ok = |u: T| u >= T::ZERO && u <= T::ONE;
     let scale = c0.abs().max(c1.abs()).max(c2.abs());
-    if !(scale > T::ZERO) || !scale.is_finite() {
-        return None;
-    }
-    if c2.abs() <= scale * T::from_f64(1e-12) {
-        if c1 == T::ZERO {
-            return None;
+    let mut root = T::ZERO;
+    let mut found = false;
+    if scale > T::ZERO && scale.is_finite() {
+        if c2.abs() <= scale * T::from_f64(1e-12) {
+            if c1 != T::ZERO {
+                root = -c0 / c1;
+                found = ok(root);
+            }
+        } else {
+            let disc = c1 * c1 - T::from_f64(4.0) * c2 * c0;
+            if !(disc < T::ZERO) {
+                let sq = disc.sqrt();
+                let q = if c1 >= T::ZERO {
+                    -(c1 + sq) * T::HALF
+                } else {
+                    (sq - c1) * T::HALF
+                };
+                let (r0, r1) = (q / c2, if q != T::ZERO { c0 / q } else { q / c2 });
+                let (lo, hi) = if r1 < r0 { (r1, r0) } else { (r0, r1) };
+                if ok(lo) {
+                    root = lo;
+                    found = true;
+                } else if ok(hi) {
+                    root = hi;
+                    found = true;
+                }
+            }
         }
-        let u = -c0 / c1;
-        return ok(u).then_some(u);
     }
-    let disc = c1 * c1 - T::from_f64(4.0) * c2 * c0;
-    if disc < T::ZERO {
-        return None;
-    }
-    let sq = disc.sqrt();
-    let q = if c1 >= T::ZERO {
-        -(c1 + sq) * T::HALF
-    } else {
-        (sq - c1) * T::HALF
-    };
-    let (mut r0, mut r1) = (q / c2, if q != T::ZERO { c0 / q } else { q / c2 });
-    if r1 < r0 {
-        core::mem::swap(&mut r0, &mut r1);
-    }
-    if ok(r0) {
-        Some(r0)
-    } else if ok(r1) {
-        Some(r1)
-    } else {
-        None
-    }
+    (root, found)
+}
+
+/// The first root in `[0, 1]` of the rational quadratic Bézier piece with
+/// ordinates `p0, p1, p2` and middle weight `weight` (the roots of its
+/// numerator `(1−u)²p0 + 2w·u(1−u)p1 + u²p2`), and whether there is one.
+fn piece_root<T: Real>(p0: T, p1: T, p2: T, weight: T) -> (T, bool) {
+    let wp1 = weight * p1;
+    let c0 = p0;
+    let c1 = (wp1 - p0) * T::TWO;
+    let c2 = p0 - wp1 * T::TWO + p2;
+    first_unit_root(c0, c1, c2)
 }
 
 /// The oracle of §1.4 on `[a, b]` with Hermite data `(ga, da)`, `(gb, db)`:
 /// the first root of the smooth piecewise-quadratic interpolant (eq. 1.10:
 /// two quadratic Bézier pieces on the halves, middle ordinate
 /// `(ga + gb)/2 + L/8·(da − db)`), each piece rational with middle weight
-/// `weight` (its roots are those of the weighted numerator).
-pub(crate) fn oracle<T: Real>(a: T, b: T, ga: T, da: T, gb: T, db: T, weight: T) -> Option<T> {
+/// `weight` (its roots are those of the weighted numerator), and whether
+/// there is one. Both pieces are solved, then the first root taken (no
+/// early return: [`first_unit_root`]).
+pub(crate) fn oracle<T: Real>(a: T, b: T, ga: T, da: T, gb: T, db: T, weight: T) -> (T, bool) {
     let l = b - a;
     let mid = (ga + gb) * T::HALF + l * T::from_f64(0.125) * (da - db);
     let quarter = l * T::from_f64(0.25);
-    let pieces = [(ga, ga + quarter * da, mid), (mid, gb - quarter * db, gb)];
-    let mut k = 0;
-    while k < 2 {
-        let (p0, p1, p2) = pieces[k];
-        let wp1 = weight * p1;
-        // (1−u)²p0 + 2w·u(1−u)p1 + u²p2
-        let c0 = p0;
-        let c1 = (wp1 - p0) * T::TWO;
-        let c2 = p0 - wp1 * T::TWO + p2;
-        if let Some(u) = first_unit_root(c0, c1, c2) {
-            let base = if k == 0 { a } else { a + l * T::HALF };
-            let t = base + l * T::HALF * u;
-            if t.is_finite() {
-                return Some(t);
-            }
-        }
-        k += 1;
+    let (u0, f0) = piece_root(ga, ga + quarter * da, mid, weight);
+    let (u1, f1) = piece_root(mid, gb - quarter * db, gb, weight);
+    let t0 = a + l * T::HALF * u0;
+    let t1 = (a + l * T::HALF) + l * T::HALF * u1;
+    if f0 && t0.is_finite() {
+        (t0, true)
+    } else if f1 && t1.is_finite() {
+        (t1, true)
+    } else {
+        (T::ZERO, false)
     }
-    None
 }
 
 /// One iteration of the pre-segmented processing of the covered region
@@ -1530,8 +1543,9 @@ fn region_finish<T: Real>(
         Split::Oracle => true,
         Split::Bisection => bracketed && len <= refine,
     };
-    // the predicted root, NaN for none
-    let mut guess = T::nan();
+    // the predicted root, when `has_guess` (flags, not NaN sentinels)
+    let mut guess = mid;
+    let mut has_guess = false;
     if use_oracle {
         // the Hermite data of both ends, from one call site
         let ends = [a, b];
@@ -1548,41 +1562,40 @@ fn region_finish<T: Real>(
         }
         (a.herm, b.herm) = (herm[0], herm[1]);
         (a.has_herm, b.has_herm) = (1, 1);
-        let [ga, da] = a.herm;
-        let [gb, db] = b.herm;
+        let [[ga, da], [gb, db]] = herm;
         let weight = if bracketed {
             T::ONE
         } else {
             T::from_f64(ORACLE_WEIGHT)
         };
-        let g = match oracle(a.t, b.t, ga, da, gb, db, weight) {
-            Some(t) => t,
-            None => T::nan(),
-        };
+        let (g, has_g) = oracle(a.t, b.t, ga, da, gb, db, weight);
         // Before a sign change, the Newton step from the left end where
         // it lies further than the oracle's root: on a long interval
         // the far end's Hermite data pull the interpolant's root short
         // of a near-linear approach, one short guess after another.
-        let mut newton = T::nan();
+        let mut newton = mid;
+        let mut has_newton = false;
         if !bracketed && ga * da < T::ZERO {
             let t = a.t - ga / da;
             if t > a.t && t < b.t {
                 newton = t;
+                has_newton = true;
             }
         }
-        guess = if g.is_nan() {
-            newton
-        } else if newton.is_nan() {
+        has_guess = has_g || has_newton;
+        guess = if has_g && has_newton {
+            if newton > g { newton } else { g }
+        } else if has_g {
             g
         } else {
-            g.max(newton)
+            newton
         };
     }
     // split at t_root ± δ (both, one or none of them inside), else at
     // the midpoint
     let mut cuts = [mid; 2];
     let mut nc = 1;
-    if guess > a.t && guess < b.t {
+    if has_guess && guess > a.t && guess < b.t {
         let g = guess;
         let (u, v) = (round::sub_down(g, delta), round::add_down(g, delta));
         nc = 0;
@@ -2283,14 +2296,14 @@ mod tests {
         // G(t) = (t − 1)² − 0.25 on [0, 1]: the interpolant is exact, the
         // first root is t = 0.5
         let (ga, da, gb, db) = (0.75, -2.0, -0.25, 0.0);
-        let t = oracle(0.0, 1.0, ga, da, gb, db, 1.0).unwrap();
-        assert!((t - 0.5).abs() < 1e-12, "{t}");
+        let (t, found) = oracle(0.0, 1.0, ga, da, gb, db, 1.0);
+        assert!(found && (t - 0.5).abs() < 1e-12, "{t}");
         // a weight > 1 pulls the curve toward its control polygon: a dip
         // that the polynomial misses is found by the rational oracle
         let (ga, da, gb, db) = (0.1, -0.6, 0.3, 0.0);
-        assert!(oracle(0.0, 1.0, ga, da, gb, db, 1.0).is_none());
-        assert!(oracle(0.0, 1.0, ga, da, gb, db, 3.0).is_some());
-        assert_eq!(first_unit_root(1.0, 0.0, 1.0), None);
-        assert_eq!(first_unit_root(-1.0, 2.0, 0.0), Some(0.5));
+        assert!(!oracle(0.0, 1.0, ga, da, gb, db, 1.0).1);
+        assert!(oracle(0.0, 1.0, ga, da, gb, db, 3.0).1);
+        assert!(!first_unit_root(1.0, 0.0, 1.0).1);
+        assert_eq!(first_unit_root(-1.0, 2.0, 0.0), (0.5, true));
     }
 }
