@@ -2342,6 +2342,21 @@ mod tests {
         format!("{name}+{}", s - at)
     }
 
+    /// The settings of a `size` × `size` SCALIS test frame (at most
+    /// [`MAX_GPU_ROOTS`] roots) and its root slots per pixel.
+    fn scalis_settings(size: u32, method: Method, mode: Mode) -> (RenderSettings<f32>, u32) {
+        let settings = RenderSettings::new(size, size, method)
+            .unwrap()
+            .with_mode(mode)
+            .with_max_roots(MAX_GPU_ROOTS)
+            .unwrap();
+        let slots = match mode {
+            Mode::Opaque => 1,
+            Mode::Transparent => MAX_GPU_ROOTS,
+        };
+        (settings, slots)
+    }
+
     /// The SCALIS legs on the adapter, leg by leg, against the host's: in
     /// legs of one step, the words of every pixel's [`ScalisLeg`] after
     /// each dispatch (both pipelines) equal those the host kernel
@@ -2374,15 +2389,7 @@ mod tests {
                 (Method::ScalisQuadratic, Mode::Transparent),
                 (Method::Interval, Mode::Transparent),
             ] {
-                let settings = RenderSettings::new(size, size, method)
-                    .unwrap()
-                    .with_mode(mode)
-                    .with_max_roots(MAX_GPU_ROOTS)
-                    .unwrap();
-                let slots = match mode {
-                    Mode::Opaque => 1,
-                    Mode::Transparent => MAX_GPU_ROOTS,
-                };
+                let (settings, slots) = scalis_settings(size, method, mode);
                 LEG_SNAPSHOTS.with(|s| *s.borrow_mut() = Some(Vec::new()));
                 let rendered = gpu.render_in_legs(&data, &camera, &settings, 1);
                 let snaps = LEG_SNAPSHOTS.with(|s| s.borrow_mut().take()).unwrap();
@@ -3070,15 +3077,7 @@ mod tests {
             ];
             for (method, mode, leg_steps) in combos {
                 {
-                    let settings = RenderSettings::new(size, size, method)
-                        .unwrap()
-                        .with_mode(mode)
-                        .with_max_roots(MAX_GPU_ROOTS)
-                        .unwrap();
-                    let slots = match mode {
-                        Mode::Opaque => 1,
-                        Mode::Transparent => MAX_GPU_ROOTS,
-                    };
+                    let (settings, slots) = scalis_settings(size, method, mode);
                     let c = Constants {
                         leg_steps,
                         ..data.constants(&camera, &settings, slots)
