@@ -90,7 +90,9 @@
 //! driver inlining every call compiles in far less memory than the one
 //! they were (BENCHMARKS.md "GPU", sessions 29-30). On the host the two
 //! kernels give the CPU renderer's frames bit for bit, in one leg or in
-//! legs of a few steps (unit test). The
+//! legs of a few steps (unit test), and on lavapipe both methods give
+//! them on every pixel (difftest, since session 33; a diagnostic unit
+//! test compares the legs with the host's word for word). The
 //! other methods (interval and affine on other scenes) live in the
 //! `trace_pixels` entry point
 //! ([`render_pixel`](boundtrace_gpu_kernel::render_pixel), shader feature
