@@ -2303,6 +2303,20 @@ mod tests {
         let (ga, da, gb, db) = (0.1, -0.6, 0.3, 0.0);
         assert!(!oracle(0.0, 1.0, ga, da, gb, db, 1.0).1);
         assert!(oracle(0.0, 1.0, ga, da, gb, db, 3.0).1);
+        // the input lavapipe answered "no root" for (BENCHMARKS.md "GPU",
+        // session 33): a flat left end outside every support, no root in
+        // the first piece, the root in the second
+        let f = f32::from_bits;
+        let (t, found) = oracle(
+            f(0x407d_d9a9),
+            f(0x4080_1938),
+            3.0,
+            0.0,
+            f(0xbeab_0120),
+            f(0xc26e_d71c),
+            1.0,
+        );
+        assert!(found && t.to_bits() == 0x407f_e5df, "{t}");
         assert!(!first_unit_root(1.0, 0.0, 1.0).1);
         assert_eq!(first_unit_root(-1.0, 2.0, 0.0), (0.5, true));
     }
