@@ -20,8 +20,11 @@
 #                                         `trace_*` and `taylor_*`)
 #     …-scalis.spv                        (`scalis-quadratic` and `interval` on SCALIS skeletons:
 #                                         `trace_scalis` and `trace_scalis_tight`)
+#     …-segment-hrbf.spv, …-linear-bottom-up-hrbf.spv,
+#     …-quadratic-bottom-up-hrbf.spv      (`Hrbf` scenes: segment tracing with bottom-up
+#                                         lines, the forward bottom-up methods)
 #
-# The bottom-up, mixed and SCALIS modules are written as rust-gpu links them,
+# The bottom-up, mixed, SCALIS and HRBF modules are written as rust-gpu links them,
 # without spirv-opt (seconds instead of minutes, and a few GB instead of
 # ~19 GB or more than this machine's 24 GB): the driver inlines and
 # optimises them (lavapipe does, in about the time it takes with an
@@ -103,4 +106,11 @@ if [ -z "${BOUNDTRACE_SHADER_FEATURES:-}" ]; then
     # "GPU", sessions 29-30), without spirv-opt likewise.
     echo "==> compiling the scalis module (no spirv-opt)"
     module scalis "${out%.spv}-scalis.spv" no-opt
+    # The HRBF scenes (no global Lipschitz or Taylor bound): segment
+    # tracing with the CPU's bound (bottom-up lines) and the bottom-up
+    # methods, without spirv-opt likewise.
+    for method in segment linear-bottom-up quadratic-bottom-up; do
+        echo "==> compiling the $method module for hrbf (no spirv-opt)"
+        module "$method-hrbf" "${out%.spv}-$method-hrbf.spv" no-opt
+    done
 fi

@@ -70,7 +70,10 @@ struct RenderArgs {
     output: PathBuf,
     /// Tracing method (`boundtrace methods`); default: `quadratic-taylor`,
     /// or `interval` on blobtrees and homothetic skeletons and `affine` on
-    /// HRBFs (which have no quadratic Taylor bounds).
+    /// HRBFs (which have no quadratic Taylor bounds); with `--backend gpu`
+    /// the GPU's: `quadratic-taylor`, or `sphere` on blobtrees,
+    /// `quadratic-bottom-up` on HRBFs and `scalis-quadratic` on SCALIS
+    /// skeletons.
     #[arg(long, value_parser = parse_method)]
     method: Option<Method>,
     /// Image size.
@@ -353,6 +356,21 @@ fn default_method<T>(field: &SceneField<T>) -> Method {
     }
 }
 
+/// The default method of a field on the GPU backend: the fastest that the
+/// GPU runs on it (`boundtrace-gpu`'s modules: no `interval` on blobtrees,
+/// no `affine`, only the SCALIS methods on SCALIS skeletons).
+fn default_gpu_method<T>(field: &SceneField<T>) -> Method {
+    match field {
+        SceneField::Blobtree(_) => Method::Sphere,
+        // no Taylor bound; fewer steps than `linear-bottom-up`
+        SceneField::Hrbf(_) => Method::QuadraticBottomUp,
+        SceneField::Scalis(_) => Method::ScalisQuadratic,
+        // no GPU data (the GPU backend says so)
+        SceneField::Homothetic(_) => Method::Interval,
+        _ => Method::QuadraticTaylor,
+    }
+}
+
 fn mode(transparent: bool) -> Mode {
     if transparent {
         Mode::Transparent
@@ -371,7 +389,10 @@ fn render(a: &RenderArgs, quiet: bool) -> Result<(), Fail> {
             2,
         ));
     }
-    let method = a.method.unwrap_or_else(|| default_method(scene.field()));
+    let method = a.method.unwrap_or_else(|| match a.backend {
+        Backend::Cpu => default_method(scene.field()),
+        Backend::Gpu => default_gpu_method(scene.field()),
+    });
     let mode = mode(a.transparent);
     let clock = Instant::now();
     match a.backend {

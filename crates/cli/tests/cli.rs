@@ -416,7 +416,8 @@ fn gpu_backend_without_gpu_is_a_clear_error() {
 /// `trace_sphere` and `trace_quadratic_taylor_blobs` entry points; their
 /// agreement with the CPU is the GPU crate's difftest), and a method
 /// without a GPU entry point in the module is a clear error with nothing
-/// written; a standard blobtree renders by tile programs.
+/// written; an HRBF renders with the GPU's default method on it, and a
+/// standard blobtree by tile programs.
 #[cfg(feature = "gpu")]
 #[test]
 fn gpu_backend_renders_sphere_tracing() {
@@ -496,6 +497,23 @@ fn gpu_backend_renders_sphere_tracing() {
     let err = stderr(&o);
     assert_fails(&o, 1, &["GPU backend:", "affine"]);
     assert!(!Path::new(&no).exists(), "{err}");
+    // An HRBF renders with the GPU's default method on it,
+    // `quadratic-bottom-up` (the CPU's, `affine`, has no GPU code).
+    let hrbf_png = d.path("hrbf.png");
+    let o = run(&[
+        "render",
+        "hrbf-8",
+        "-o",
+        &hrbf_png,
+        "--backend",
+        "gpu",
+        "--size",
+        "8x8",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stdout(&o).contains("quadratic-bottom-up"), "{}", stdout(&o));
+    let png = std::fs::read(&hrbf_png).unwrap();
+    assert!(png.len() > 8 && png[1..4] == *b"PNG", "not a PNG");
     // A blobtree (a standard scene by name) renders with one program per
     // 8 × 8 tile (`TilePrograms`): the 11,110-primitive `aggregate-4` too.
     let tree_png = d.path("tree.png");

@@ -68,14 +68,94 @@ pub struct HrbfCenter<T> {
     pub beta: [T; 3],
 }
 
+/// The number of `T` words of one [`HrbfCenter`] in flat storage
+/// ([`FlatCenters`]): the center, `α`, then `β`.
+pub const CENTER_WORDS: usize = 7;
+
+/// Storage of HRBF centers that the field reads one by one
+/// ([`Hrbf`]'s `S`): every `AsRef<[HrbfCenter<T>]>` (an array, a slice, a
+/// `Vec`) and [`FlatCenters`], the centers as plain words (the GPU's
+/// buffers).
+pub trait HrbfCenters<T> {
+    /// The number of centers.
+    fn count(&self) -> usize;
+    /// Center `i` (`i < count()`).
+    fn center(&self, i: usize) -> HrbfCenter<T>;
+}
+
+impl<T: Copy, S: AsRef<[HrbfCenter<T>]>> HrbfCenters<T> for S {
+    fn count(&self) -> usize {
+        self.as_ref().len()
+    }
+    fn center(&self, i: usize) -> HrbfCenter<T> {
+        self.as_ref()[i]
+    }
+}
+
+/// HRBF centers stored as plain words, [`CENTER_WORDS`] per center in
+/// [`HrbfCenter`]'s field order (`cₓ c_y c_z α βₓ β_y β_z`): the flat data
+/// that the GPU kernel reads from a `f32` buffer, where a typed view of the
+/// words is not available. The field over it is the field over the same
+/// centers as structs, bit for bit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FlatCenters<'a, T> {
+    words: &'a [T],
+    count: usize,
+}
+
+impl<'a, T> FlatCenters<'a, T> {
+    /// The first `count` centers of `words`; `None` when `words` holds
+    /// fewer than `count ·` [`CENTER_WORDS`] words. Extra words are left
+    /// out.
+    pub fn new(words: &'a [T], count: usize) -> Option<Self> {
+        let needed = count.checked_mul(CENTER_WORDS)?;
+        (needed <= words.len()).then_some(Self { words, count })
+    }
+
+    /// [`new`](Self::new) without the length check, for the GPU kernel
+    /// (no `Option` to move): `count ·` [`CENTER_WORDS`] `≤ words.len()`
+    /// is the caller's to check, else the field's evaluation indexes past
+    /// the words (a panic on the CPU).
+    pub const fn new_unchecked(words: &'a [T], count: usize) -> Self {
+        Self { words, count }
+    }
+}
+
+impl<T: Copy> HrbfCenters<T> for FlatCenters<'_, T> {
+    fn count(&self) -> usize {
+        self.count
+    }
+    fn center(&self, i: usize) -> HrbfCenter<T> {
+        let w = &self.words;
+        let k = i * CENTER_WORDS;
+        HrbfCenter {
+            center: [w[k], w[k + 1], w[k + 2]],
+            alpha: w[k + 3],
+            beta: [w[k + 4], w[k + 5], w[k + 6]],
+        }
+    }
+}
+
 /// An HRBF field: centers with weights and the linear polynomial
 /// `a·p + b` (stored as `[a₀, a₁, a₂, b]`).
 ///
-/// `S` is any storage of centers: `[HrbfCenter<T>; K]`, a slice, a `Vec`.
+/// `S` is any storage of centers ([`HrbfCenters`]): `[HrbfCenter<T>; K]`,
+/// a slice, a `Vec`, or [`FlatCenters`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct Hrbf<T, S> {
     centers: S,
     poly: [T; 4],
+}
+
+impl<T, S> Hrbf<T, S> {
+    /// An HRBF from centers and polynomial without the finiteness checks
+    /// of [`from_parts`](Hrbf::from_parts) (for the GPU kernel, which
+    /// cannot build its error values: the host validated the data). A
+    /// non-finite weight, center or coefficient gives non-finite values,
+    /// never a panic.
+    pub const fn from_parts_unchecked(centers: S, poly: [T; 4]) -> Self {
+        Self { centers, poly }
+    }
 }
 
 impl<T: Real, S: AsRef<[HrbfCenter<T>]>> Hrbf<T, S> {
@@ -132,12 +212,16 @@ impl<T: Real, S: AsRef<[HrbfCenter<T>]>> Hrbf<T, S> {
     }
 }
 
-impl<T: Real, S: AsRef<[HrbfCenter<T>]>> Field<T> for Hrbf<T, S> {
+impl<T: Real, S: HrbfCenters<T>> Field<T> for Hrbf<T, S> {
     fn eval<N: FieldNum<T>>(&self, p: [N; 3]) -> N {
         let three = T::from_f64(3.0);
         let a = self.poly;
         let mut acc = p[0] * a[0] + p[1] * a[1] + p[2] * a[2] + a[3];
-        for c in self.centers.as_ref() {
+        // By index (no iterator over the storage: the SPIR-V build).
+        let mut i = 0;
+        while i < self.centers.count() {
+            let c = self.centers.center(i);
+            i += 1;
             let x = [p[0] - c.center[0], p[1] - c.center[1], p[2] - c.center[2]];
             let r2 = x[0].sqr() + x[1].sqr() + x[2].sqr();
             if r2.enclosure().hi() <= T::ZERO {
@@ -150,6 +234,23 @@ impl<T: Real, S: AsRef<[HrbfCenter<T>]>> Field<T> for Hrbf<T, S> {
             acc = acc + r * (r2 * c.alpha + bx * three);
         }
         acc
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl<T: Copy, S: HrbfCenters<T>> Hrbf<T, S> {
+    /// The centers as flat words, [`CENTER_WORDS`] per center in
+    /// [`FlatCenters`]' order: the data of an HRBF over [`FlatCenters`]
+    /// (the GPU's buffer).
+    pub fn center_words(&self) -> Vec<T> {
+        let mut w = Vec::with_capacity(self.centers.count() * CENTER_WORDS);
+        for i in 0..self.centers.count() {
+            let c = self.centers.center(i);
+            w.extend_from_slice(&c.center);
+            w.push(c.alpha);
+            w.extend_from_slice(&c.beta);
+        }
+        w
     }
 }
 
@@ -461,11 +562,52 @@ mod tests {
         }
         let c = Hrbf::from_parts(h.centers().to_vec(), h.poly()).unwrap();
         assert_eq!(c.eval([0.1f64, 0.2, 0.3]), h.eval([0.1, 0.2, 0.3]));
+        let flat: Vec<f64> = h
+            .centers()
+            .iter()
+            .flat_map(|c| [c.center[0], c.center[1], c.center[2], c.alpha])
+            .collect();
+        // (too few words: the β words are missing)
+        assert!(FlatCenters::new(&flat, h.centers().len()).is_none());
         let bad = [HrbfCenter {
             center: [0.0; 3],
             alpha: f64::NAN,
             beta: [0.0; 3],
         }];
         assert!(Hrbf::from_parts(bad, [0.0; 4]).is_err());
+    }
+
+    /// The field over [`FlatCenters`] (the GPU's flat words) is the field
+    /// over the same centers as structs, bit for bit, in every number type
+    /// (intervals, jets: the tracer's bounds); a short buffer is refused.
+    #[test]
+    fn flat_centers_are_the_same_field() {
+        let (p, q) = sphere_samples(17, 1.3, [0.2, -0.1, 0.4]);
+        let h = Hrbf::<f64, _>::fit(&p, &q).unwrap();
+        let mut words = h.center_words();
+        let n = h.centers().len();
+        assert_eq!(words.len(), n * CENTER_WORDS);
+        assert_eq!(words[CENTER_WORDS + 3], h.centers()[1].alpha);
+        words.push(99.0); // a word past the last center, left out
+        assert!(FlatCenters::new(&words, n + 1).is_none());
+        assert!(FlatCenters::new(&words, usize::MAX).is_none());
+        let flat = Hrbf::from_parts_unchecked(FlatCenters::new(&words, n).unwrap(), h.poly());
+        assert_eq!(flat.center_words(), words[..n * CENTER_WORDS]);
+        for k in 0..50 {
+            let t = k as f64 * 0.07 - 1.7;
+            let x = [t, 0.3 * t - 0.2, 1.1 - 0.5 * t];
+            assert_eq!(flat.eval(x).to_bits(), h.eval(x).to_bits(), "{x:?}");
+            let b = [
+                Interval::new(x[0], x[0] + 0.1),
+                Interval::new(x[1] - 0.05, x[1]),
+                Interval::point(x[2]),
+            ];
+            let (fi, hi): (Interval<f64>, Interval<f64>) = (flat.eval(b), h.eval(b));
+            assert_eq!(
+                (fi.lo().to_bits(), fi.hi().to_bits()),
+                (hi.lo().to_bits(), hi.hi().to_bits())
+            );
+            assert_eq!(gradient(&flat, x), gradient(&h, x));
+        }
     }
 }

@@ -52,6 +52,7 @@ pub use scalis::{ScalisLeg, render_scalis_leg, render_scalis_tight_leg};
 
 use boundtrace_fields::AlgebraicPrimitives;
 use boundtrace_fields::blobtree::{BlobtreeRef, BlobtreeWindow};
+use boundtrace_fields::hrbf::{CENTER_WORDS, FlatCenters, Hrbf};
 use boundtrace_fields::{Blobs, PointBlob};
 use boundtrace_inclusion::{Field, Ray};
 #[cfg(test)]
@@ -64,7 +65,8 @@ use boundtrace_tracer::{
     trace_linear_bottom_up_resume_in, trace_linear_mixed_cached_resume_in,
     trace_linear_taylor_resume_in, trace_quadratic_bottom_up_resume_in,
     trace_quadratic_mixed_cached_resume_in, trace_quadratic_taylor_resume_in,
-    trace_segment_resume_in, trace_sphere_in, trace_sphere_resume_in,
+    trace_segment_lines_resume_in, trace_segment_resume_in, trace_sphere_in,
+    trace_sphere_resume_in,
 };
 
 /// The largest per-pixel root buffer of the GPU (transparent mode): a
@@ -99,6 +101,13 @@ pub enum SceneKind {
     /// `f32` buffer's and their offsets (one per pixel, and the end) in
     /// the `u32` buffer, with [`Constants::iso`].
     Scalis = 3,
+    /// An HRBF ([`Hrbf`] over [`FlatCenters`]): [`Constants::groups`]
+    /// centers in the `f32` buffer, [`CENTER_WORDS`] words each
+    /// (`cₓ c_y c_z α βₓ β_y β_z`), then the polynomial `a₀ a₁ a₂ b`. It
+    /// has no global Lipschitz bound: the forward methods trace it,
+    /// sphere and segment tracing report [`Status::Unsupported`] as on
+    /// the CPU.
+    Hrbf = 4,
 }
 
 impl SceneKind {
@@ -109,6 +118,7 @@ impl SceneKind {
             1 => Some(Self::Blobs),
             2 => Some(Self::BlobGroups),
             3 => Some(Self::Scalis),
+            4 => Some(Self::Hrbf),
             _ => None,
         }
     }
@@ -126,11 +136,13 @@ pub trait SceneKinds {
     const GROUPS: bool;
     /// Whether [`SceneKind::Blobtree`] scenes are traced.
     const BLOBTREE: bool;
+    /// Whether [`SceneKind::Hrbf`] scenes are traced.
+    const HRBF: bool;
 }
 
 /// Declares unit marker types and their [`SceneKinds`] flags.
 macro_rules! scene_kinds {
-    ($($(#[$doc:meta])* $name:ident = [$blobs:literal, $groups:literal, $blobtree:literal];)*) => {$(
+    ($($(#[$doc:meta])* $name:ident = [$blobs:literal, $groups:literal, $blobtree:literal, $hrbf:literal];)*) => {$(
         $(#[$doc])*
         #[derive(Clone, Copy, Debug, Default)]
         pub struct $name;
@@ -139,24 +151,28 @@ macro_rules! scene_kinds {
             const BLOBS: bool = $blobs;
             const GROUPS: bool = $groups;
             const BLOBTREE: bool = $blobtree;
+            const HRBF: bool = $hrbf;
         }
     )*};
 }
 
-// The flags in the order `[BLOBS, GROUPS, BLOBTREE]`.
+// The flags in the order `[BLOBS, GROUPS, BLOBTREE, HRBF]`.
 scene_kinds! {
     /// Every scene kind ([`SceneKinds`]).
-    AllKinds = [true, true, true];
+    AllKinds = [true, true, true, true];
     /// The blob scenes, [`SceneKind::Blobs`] and [`SceneKind::BlobGroups`]
     /// ([`SceneKinds`]): the shader's `trace_sphere`.
-    BlobKinds = [true, true, false];
+    BlobKinds = [true, true, false, false];
     /// [`SceneKind::Blobtree`] only ([`SceneKinds`]): the shader's
     /// `trace_sphere_blobtree`.
-    BlobtreeOnly = [false, false, true];
+    BlobtreeOnly = [false, false, true, false];
     /// [`SceneKind::Blobs`] only ([`SceneKinds`]).
-    BlobsOnly = [true, false, false];
+    BlobsOnly = [true, false, false, false];
     /// [`SceneKind::BlobGroups`] only ([`SceneKinds`]).
-    GroupsOnly = [false, true, false];
+    GroupsOnly = [false, true, false, false];
+    /// [`SceneKind::Hrbf`] only ([`SceneKinds`]): the shader's
+    /// `trace_linear_taylor_hrbf` and `trace_quadratic_taylor_hrbf`.
+    HrbfOnly = [false, false, false, true];
 }
 
 /// The frame's constants, as uploaded (plain `u32`/`f32` words, `#[repr(C)]`,
@@ -208,7 +224,8 @@ pub struct Constants {
     pub scene: u32,
     /// The iso-value of the blob scenes.
     pub iso: f32,
-    /// The number of blob groups ([`SceneKind::BlobGroups`]); for
+    /// The number of blob groups ([`SceneKind::BlobGroups`]) or HRBF
+    /// centers ([`SceneKind::Hrbf`]); for
     /// [`SceneKind::Blobtree`] the number of 8 × 8 tiles per image row when
     /// `words` holds one program per tile
     /// ([`BlobtreeWindow::tile`](boundtrace_fields::blobtree::BlobtreeWindow::tile),
@@ -1028,6 +1045,18 @@ leg_method!(
 );
 
 leg_method!(
+    /// [`render_segment_leg_in`] with the CPU's segment bound, the Taylor
+    /// lines or else the bottom-up lines
+    /// ([`trace_segment_lines_resume_in`]): the same records as
+    /// [`render_pixel`]'s on every field, bit for bit. The shader's
+    /// `trace_segment_hrbf` (an HRBF has no Taylor lines).
+    render_segment_lines_leg_in,
+    SegmentLinesTrace,
+    Method::Segment,
+    trace_segment_lines_resume_in
+);
+
+leg_method!(
     /// [`render_linear_taylor_leg_in`] for [`Method::QuadraticTaylor`]
     /// ([`trace_quadratic_taylor_resume_in`]; the shader's
     /// `trace_quadratic_taylor_blobs` and `trace_quadratic_taylor_groups`).
@@ -1484,6 +1513,22 @@ fn render_with<P: PixelKernel, K: SceneKinds>(
             }
         }
         Some(SceneKind::BlobGroups) => unsupported(),
+        Some(SceneKind::Hrbf) if K::HRBF => {
+            // `groups` centers, then the polynomial (`SceneKind::Hrbf`);
+            // checked without `Option`s (the shader never moves a
+            // niche-encoded value) and without overflow.
+            let n = c.groups as usize;
+            if n <= floats.len() / CENTER_WORDS && floats.len() - n * CENTER_WORDS >= 4 {
+                let at = n * CENTER_WORDS;
+                let poly = [floats[at], floats[at + 1], floats[at + 2], floats[at + 3]];
+                let centers = FlatCenters::new_unchecked(floats, n);
+                let field = Hrbf::from_parts_unchecked(centers, poly);
+                p.run(&field, &setup, c.max_roots, x, y, roots, hits, base)
+            } else {
+                unsupported()
+            }
+        }
+        Some(SceneKind::Hrbf) => unsupported(),
         // traced by `render_scalis_leg` alone
         Some(SceneKind::Scalis) => unsupported(),
         None => unsupported(),
@@ -2153,6 +2198,109 @@ mod tests {
                 }
             }
             assert!(hits_seen > 4, "{method}: {hits_seen}");
+        }
+    }
+
+    /// [`SceneKind::Hrbf`]: the segment-tracing and forward bottom-up legs
+    /// trace `hrbf-8` and
+    /// `hrbf-17` over the flat words as the CPU traces the scene's field
+    /// (steps, status, roots bit for bit), in both modes; the kernels of
+    /// the other kinds and short buffers give unsupported pixels, and the
+    /// methods that need a global Lipschitz or a Taylor bound (which an
+    /// HRBF lacks) the CPU's status, unsupported.
+    #[test]
+    fn hrbf_bottom_up_legs_trace_as_on_the_cpu() {
+        use boundtrace_tracer::scenes::{DEFAULT_SEED, Scene, SceneField};
+        for name in ["hrbf-8", "hrbf-17"] {
+            let scene = Scene::<f32>::build(name, DEFAULT_SEED).unwrap();
+            let SceneField::Hrbf(h) = scene.field() else {
+                panic!("{name} is an HRBF");
+            };
+            let n = h.centers().len() as u32;
+            let mut floats = h.center_words();
+            floats.extend_from_slice(&h.poly());
+            let r = Root {
+                t: 0.0,
+                side: Side::Touch,
+            };
+            let kernels: [(Method, LegFn, LegFn); 3] = [
+                (
+                    Method::Segment,
+                    &render_segment_lines_leg_in::<HrbfOnly>,
+                    &render_segment_lines_leg_in::<BlobKinds>,
+                ),
+                (
+                    Method::LinearBottomUp,
+                    &render_linear_bottom_up_leg_in::<HrbfOnly>,
+                    &render_linear_bottom_up_leg_in::<BlobsOnly>,
+                ),
+                (
+                    Method::QuadraticBottomUp,
+                    &render_quadratic_bottom_up_leg_in::<HrbfOnly>,
+                    &render_quadratic_bottom_up_leg_in::<GroupsOnly>,
+                ),
+            ];
+            let mut hit_pixels = 0;
+            for (method, kernel, other) in kernels {
+                for mode in [Mode::Opaque, Mode::Transparent] {
+                    let setup = six_by_six(scene.bounds(), method, mode);
+                    let c = Constants::new(&setup, SceneKind::Hrbf, 0.0, 4, n);
+                    for y in 0..6 {
+                        for x in 0..6 {
+                            let run = |f: LegFn, c: &Constants, floats: &[f32]| {
+                                one_leg(f, c, (&[], floats, &[]), x, y)
+                            };
+                            let (gpu, hs) = run(kernel, &c, &floats);
+                            let mut rc = [r; 4];
+                            let cpu = trace_pixel_in(scene.field(), &setup, x, y, &mut rc, [0, 4]);
+                            let at = format!("{name} {method} {mode:?} ({x}, {y})");
+                            assert_eq!(gpu.steps, cpu.trace.stats.steps, "{at}");
+                            assert_eq!(gpu.status, cpu.trace.status as u32, "{at}");
+                            assert_eq!(gpu.roots, cpu.trace.roots, "{at}");
+                            for k in 0..gpu.roots as usize {
+                                assert_eq!(hs[k].t.to_bits(), rc[k].t.to_bits(), "{at}");
+                            }
+                            hit_pixels += usize::from(gpu.roots > 0);
+                            let unsupported = |o: PixelOut| o.status == Status::Unsupported as u32;
+                            assert!(unsupported(run(other, &c, &floats).0), "{at}");
+                            // the polynomial's last word missing
+                            let short = &floats[..floats.len() - 1];
+                            assert!(unsupported(run(kernel, &c, short).0), "{at}");
+                            // more centers than words
+                            let more = Constants { groups: n + 1, ..c };
+                            assert!(unsupported(run(kernel, &more, &floats).0), "{at}");
+                            let huge = Constants {
+                                groups: u32::MAX,
+                                ..c
+                            };
+                            assert!(unsupported(run(kernel, &huge, &floats).0), "{at}");
+                        }
+                    }
+                }
+            }
+            assert!(hit_pixels >= 16, "{name}: {hit_pixels}");
+            // No global Lipschitz bound (sphere tracing), no Taylor bound:
+            // unsupported on the CPU and here.
+            let others: [(Method, LegFn); 3] = [
+                (Method::Sphere, &render_sphere_leg_in::<AllKinds>),
+                (
+                    Method::LinearTaylor,
+                    &render_linear_taylor_leg_in::<AllKinds>,
+                ),
+                (
+                    Method::QuadraticTaylor,
+                    &render_quadratic_taylor_leg_in::<AllKinds>,
+                ),
+            ];
+            for (method, kernel) in others {
+                let setup = six_by_six(scene.bounds(), method, Mode::Opaque);
+                let c = Constants::new(&setup, SceneKind::Hrbf, 0.0, 4, n);
+                let mut rc = [r; 4];
+                let cpu = trace_pixel_in(scene.field(), &setup, 3, 3, &mut rc, [0, 4]);
+                let (gpu, _) = one_leg(kernel, &c, (&[], &floats, &[]), 3, 3);
+                assert_eq!(gpu.status, cpu.trace.status as u32, "{method}");
+                assert_eq!(gpu.status, Status::Unsupported as u32, "{method}");
+            }
         }
     }
 

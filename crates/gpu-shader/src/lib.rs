@@ -26,6 +26,10 @@
 //!   inclusions from Taylor bounds), features `linear-taylor-blobs`, …:
 //!   each in a module of its own (`scripts/build-spirv.sh` builds all
 //!   eight);
+//! - `trace_segment_hrbf`, `trace_linear_bottom_up_hrbf` and
+//!   `trace_quadratic_bottom_up_hrbf`: the HRBF scenes (segment tracing
+//!   with the CPU's bound, from bottom-up lines; the forward bottom-up
+//!   methods), features `segment-hrbf`, …, a module each;
 //! - `trace_scalis` and `trace_scalis_tight` (its intervals' tight
 //!   stages, a pipeline of its own): `scalis-quadratic` and the
 //!   per-primitive `interval` bisection on SCALIS skeletons
@@ -351,6 +355,31 @@ leg_entry_point!(
     kernel::render_quadratic_bottom_up_leg_in::<kernel::GroupsOnly>
 );
 
+leg_entry_point!(
+    /// Segment tracing of `SceneKind::Hrbf` scenes with the CPU's bound,
+    /// from bottom-up lines (`render_segment_lines_leg_in::<HrbfOnly>`),
+    /// feature `segment-hrbf`.
+    "segment-hrbf",
+    trace_segment_hrbf,
+    kernel::render_segment_lines_leg_in::<kernel::HrbfOnly>
+);
+
+leg_entry_point!(
+    /// `linear-bottom-up` on `SceneKind::Hrbf` scenes, feature
+    /// `linear-bottom-up-hrbf`.
+    "linear-bottom-up-hrbf",
+    trace_linear_bottom_up_hrbf,
+    kernel::render_linear_bottom_up_leg_in::<kernel::HrbfOnly>
+);
+
+leg_entry_point!(
+    /// `quadratic-bottom-up` on `SceneKind::Hrbf` scenes, feature
+    /// `quadratic-bottom-up-hrbf`.
+    "quadratic-bottom-up-hrbf",
+    trace_quadratic_bottom_up_hrbf,
+    kernel::render_quadratic_bottom_up_leg_in::<kernel::HrbfOnly>
+);
+
 /// The two entry points of a mixed-bounds module: `$trace`, one leg of
 /// each pixel with `$render` (the bottom-up side; the Taylor side read from
 /// the pixel's cache), and `$fill`, dispatched after it, the Taylor side of
@@ -495,7 +524,10 @@ leg_entry_point!(
     feature = "linear-bottom-up-blobs",
     feature = "linear-bottom-up-groups",
     feature = "quadratic-bottom-up-blobs",
-    feature = "quadratic-bottom-up-groups"
+    feature = "quadratic-bottom-up-groups",
+    feature = "segment-hrbf",
+    feature = "linear-bottom-up-hrbf",
+    feature = "quadratic-bottom-up-hrbf"
 ))]
 #[allow(clippy::too_many_arguments)]
 fn leg_entry<R>(

@@ -189,7 +189,7 @@ const SPHERE_ENTRY: &str = "trace_sphere";
 /// file name and its entry point (`segment-blobs`: feature
 /// `segment-blobs`, `…-segment-blobs.spv`, `trace_segment_blobs`); see
 /// [`leg_spirv_path`].
-const LEG_MODULE_LIST: [(Method, SceneKind, &str); 17] = [
+const LEG_MODULE_LIST: [(Method, SceneKind, &str); 20] = [
     (Method::Segment, SceneKind::Blobs, "segment-blobs"),
     (Method::Segment, SceneKind::BlobGroups, "segment-groups"),
     (
@@ -248,6 +248,20 @@ const LEG_MODULE_LIST: [(Method, SceneKind, &str); 17] = [
         Method::QuadraticMixed,
         SceneKind::BlobGroups,
         "quadratic-mixed-groups",
+    ),
+    // The HRBF scenes: segment tracing with the CPU's bound (bottom-up
+    // lines) and the bottom-up methods (an HRBF has no global Lipschitz or
+    // Taylor bound).
+    (Method::Segment, SceneKind::Hrbf, "segment-hrbf"),
+    (
+        Method::LinearBottomUp,
+        SceneKind::Hrbf,
+        "linear-bottom-up-hrbf",
+    ),
+    (
+        Method::QuadraticBottomUp,
+        SceneKind::Hrbf,
+        "quadratic-bottom-up-hrbf",
     ),
     // One module and entry point (`trace_scalis`) for both methods of the
     // pre-segmented SCALIS processing.
@@ -446,7 +460,12 @@ impl GpuScene {
     /// kind but gyroids and blobs), and the SCALIS skeletons
     /// (`scalis-tree`, `scalis-foam`, `scalis-random`: the segments, for
     /// `scalis-quadratic` and `interval` in the `scalis` module; the frame's
-    /// primitive lists are built at each render).
+    /// primitive lists are built at each render), and the HRBF scenes
+    /// (`hrbf-8`, `hrbf-17`: the centers and polynomial, for `segment` with
+    /// the CPU's bottom-up bound, `linear-bottom-up` and `quadratic-bottom-up`
+    /// in the `*-hrbf` modules; an HRBF has no global Lipschitz or Taylor
+    /// bound, so sphere tracing and the Taylor methods are unsupported on it,
+    /// as on the CPU).
     ///
     /// A `molecule` field call loops over 500 atoms: lavapipe's llvmpipe
     /// allows 65,535 loop iterations per 8 pixels and dispatch, so its
@@ -459,7 +478,7 @@ impl GpuScene {
     /// to 72 field calls); BENCHMARKS.md "GPU", sessions 16, 17 and 21.
     ///
     /// # Errors
-    /// [`GpuError::UnsupportedScene`] for the other scenes: the HRBF and
+    /// [`GpuError::UnsupportedScene`] for the other scenes: the
     /// homothetic scenes (no flat field yet), SCALIS skeletons with an
     /// infinite support (Cauchy kernels: no primitive lists), and blobtrees
     /// with gyroid or blob primitives.
@@ -534,7 +553,14 @@ impl GpuScene {
                 s.blobs = m.field().blobs().to_vec();
                 s.lipschitz = l;
             }
-            SceneField::Hrbf(_) => return unsupported("HRBF has no flat GPU field yet"),
+            SceneField::Hrbf(h) => {
+                // `SceneKind::Hrbf`'s layout: the centers' words, then the
+                // polynomial; `groups` centers.
+                s.kind = SceneKind::Hrbf;
+                s.floats = h.center_words();
+                s.floats.extend_from_slice(&h.poly());
+                s.groups = h.centers().len() as u32;
+            }
             SceneField::Scalis(w) => {
                 let sk = w.field();
                 if let Err(e) = check_segments(sk.segments()) {
@@ -1137,13 +1163,26 @@ impl GpuTracer {
                 ),
                 None => String::new(),
             };
-            let legs: Vec<&str> = LEG_MODULE_LIST.iter().map(|&(_, _, m)| m).collect();
+            // The methods of the modules on this scene kind.
+            let mut here: Vec<String> = Vec::new();
+            if matches!(kind, SceneKind::Blobs | SceneKind::BlobGroups) {
+                here.push(format!("{} (`{SPHERE_ENTRY}`)", Method::Sphere));
+            }
+            for &(m, k, name) in &LEG_MODULE_LIST {
+                if k == kind {
+                    here.push(format!("{m} (`{name}`)"));
+                }
+            }
             return Err(unavailable(format!(
-                "the module has `{SPHERE_ENTRY}` (sphere tracing of the blob scenes) and the \
-                 leg modules are {}{missing}; every method is in `{ENTRY}`, built by \
-                 BOUNDTRACE_SHADER_FEATURES=sphere,trace {BUILD_COMMAND}, which drivers that \
-                 inline every call (lavapipe) cannot compile yet (BENCHMARKS.md \"GPU\")",
-                legs.join(", ")
+                "the modules trace {kind:?} scenes with {}{missing}; every method is in \
+                 `{ENTRY}`, built by BOUNDTRACE_SHADER_FEATURES=sphere,trace {BUILD_COMMAND}, \
+                 which drivers that inline every call (lavapipe) cannot compile yet \
+                 (BENCHMARKS.md \"GPU\")",
+                if here.is_empty() {
+                    "no method".to_string()
+                } else {
+                    here.join(", ")
+                }
             )));
         }
         self.lazy_pipeline(&self.general, &self.module, ENTRY)
@@ -2544,9 +2583,27 @@ mod tests {
         );
         assert_eq!(Some(a.lipschitz), tree.as_ref().lipschitz_bound::<f32>());
         assert_eq!(leg_slot(Method::Sphere, SceneKind::Blobtree), Some(6));
+        // an HRBF: the centers' words, then the polynomial
         let hrbf = Scene::<f32>::build("hrbf-8", DEFAULT_SEED).unwrap();
-        let e = GpuScene::from_scene(&hrbf).unwrap_err();
-        assert!(e.to_string().contains("hrbf-8"), "{e}");
+        let h = GpuScene::from_scene(&hrbf).unwrap();
+        let SceneField::Hrbf(field) = hrbf.field() else {
+            panic!("hrbf-8 is an HRBF")
+        };
+        assert_eq!(h.kind(), SceneKind::Hrbf);
+        assert_eq!(h.groups, 8);
+        assert_eq!(h.floats.len(), 8 * 7 + 4);
+        assert_eq!(h.floats[7 * 3 + 3], field.centers()[3].alpha);
+        assert_eq!(h.floats[8 * 7..], field.poly());
+        for method in [
+            Method::Segment,
+            Method::LinearBottomUp,
+            Method::QuadraticBottomUp,
+        ] {
+            assert!(leg_slot(method, SceneKind::Hrbf).is_some(), "{method}");
+        }
+        // no module: sphere tracing and the Taylor methods need bounds an
+        // HRBF lacks (unsupported on the CPU too)
+        assert_eq!(leg_slot(Method::LinearTaylor, SceneKind::Hrbf), None);
     }
 
     #[test]

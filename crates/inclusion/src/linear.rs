@@ -318,8 +318,15 @@ impl<T: Real> Mul for ForwardLinear<T> {
         let gs = [(rhs.start.lo(), rhs.lo), (rhs.start.hi(), rhs.hi)];
         let (mut s_lo, mut s_hi) = (T::INFINITY, T::NEG_INFINITY);
         let (mut m_lo, mut m_hi) = (T::INFINITY, T::NEG_INFINITY);
-        for (f0, f1) in fs {
-            for (g0, g1) in gs {
+        // Index loops (an array's `IntoIter` does not compile to SPIR-V).
+        let mut i = 0;
+        while i < 2 {
+            let (f0, f1) = fs[i];
+            i += 1;
+            let mut j = 0;
+            while j < 2 {
+                let (g0, g1) = gs[j];
+                j += 1;
                 // (f0 + f1τ)(g0 + g1τ) = c0 + c1τ + c2τ²; over [0, h] its
                 // tangent is below and its chord above when c2 ≥ 0 (and the
                 // reverse when c2 < 0): slopes c1 + min/max(0, c2·h).

@@ -99,5 +99,6 @@ pub use trace::{
     trace_linear_mixed_resume_in, trace_linear_taylor_resume_in,
     trace_quadratic_bottom_up_resume_in, trace_quadratic_mixed_cached_resume_in,
     trace_quadratic_mixed_resume_in, trace_quadratic_taylor_resume_in, trace_resume_in,
-    trace_segment_resume_in, trace_sphere_in, trace_sphere_resume_in,
+    trace_segment_lines_resume_in, trace_segment_resume_in, trace_sphere_in,
+    trace_sphere_resume_in,
 };

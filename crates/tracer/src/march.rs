@@ -928,6 +928,27 @@ impl WindowBounds for AnyWindow {
     }
 }
 
+/// [`Method::Segment`] with the CPU's bound, [`segment_bound`]: the
+/// Taylor lines where the field has them, else the bottom-up lines
+/// (whatever the method given).
+pub(crate) struct SegmentLines;
+
+impl WindowBounds for SegmentLines {
+    type Cache<T: Copy> = ();
+
+    fn bound<T: Real, F: Field<T>>(
+        _method: Method,
+        field: &F,
+        ray: &Ray<T>,
+        t: T,
+        e: T,
+        stats: &mut RayStats,
+        _cache: (),
+    ) -> StepBound<T> {
+        segment_bound(field, ray, t, e, stats)
+    }
+}
+
 /// [`Method::Segment`] from Taylor lines only (whatever the method given):
 /// the bottom-up lines' code is ≈ 30 times larger than the Taylor lines'
 /// on a GPU that inlines every call (BENCHMARKS.md "GPU").
@@ -2019,7 +2040,7 @@ mod tests {
             trace_in, trace_linear_bottom_up_resume_in, trace_linear_mixed_resume_in,
             trace_linear_taylor_resume_in, trace_quadratic_bottom_up_resume_in,
             trace_quadratic_mixed_resume_in, trace_quadratic_taylor_resume_in, trace_resume_in,
-            trace_segment_resume_in,
+            trace_segment_lines_resume_in, trace_segment_resume_in,
         };
         use boundtrace_fields::{Blobs, Kernel, PointBlob};
         // Overlapping compact blobs: Taylor bounds exist, so every marcher
@@ -2069,6 +2090,10 @@ mod tests {
                             // legs and the dispatching one's.
                             let one = legs % 2 == 0;
                             let leg = match m {
+                                Method::Segment if legs % 4 == 0 => trace_segment_lines_resume_in(
+                                    &blobs, &ray, span, mode, &p, &mut buf, window, &mut st,
+                                    &mut guard,
+                                ),
                                 Method::Segment if one => trace_segment_resume_in(
                                     &blobs, &ray, span, mode, &p, &mut buf, window, &mut st,
                                     &mut guard,

@@ -466,6 +466,19 @@ single_method_resume!(
 );
 
 single_method_resume!(
+    /// [`trace_resume_in`] with [`Method::Segment`], reached without the
+    /// method dispatch, with the CPU's bound: Galin et al.'s `λ` from the
+    /// field's Taylor lines where it has them, else from its bottom-up lines.
+    /// Equal to [`trace_resume_in`]'s trace bit for bit on every field. The
+    /// GPU shader's `trace_segment_hrbf` entry point (an HRBF has no Taylor
+    /// lines, where [`trace_segment_resume_in`] would certify every step
+    /// with interval enclosures: more steps than the CPU's).
+    trace_segment_lines_resume_in,
+    march::SegmentLines,
+    Method::Segment
+);
+
+single_method_resume!(
     /// [`trace_resume_in`] with [`Method::LinearTaylor`], reached without the
     /// method dispatch, so that a caller (the GPU shader's
     /// `trace_linear_taylor_*` entry points) links the Taylor linear bound
