@@ -2304,6 +2304,73 @@ mod tests {
         }
     }
 
+    /// The blobtree's segment-tracing (bottom-up lines) and forward
+    /// bottom-up legs trace `aggregate-1` as the CPU traces it (steps,
+    /// status, roots bit for bit), in both modes, on the host; other kinds'
+    /// kernels do not hold the blobtree. (No module ships these legs yet:
+    /// lavapipe had not compiled the segment one, built without
+    /// spirv-opt, after 14 minutes at 8.9 GB: BENCHMARKS.md "GPU", session
+    /// 34.)
+    #[test]
+    fn blobtree_bottom_up_legs_trace_as_on_the_cpu() {
+        use boundtrace_tracer::scenes::{DEFAULT_SEED, Scene, SceneField};
+        let scene = Scene::<f32>::build("aggregate-1", DEFAULT_SEED).unwrap();
+        let SceneField::Blobtree(tree) = scene.field() else {
+            panic!("aggregate-1 is a blobtree");
+        };
+        let t = tree.as_ref();
+        let r = Root {
+            t: 0.0,
+            side: Side::Touch,
+        };
+        let kernels: [(Method, LegFn, LegFn); 3] = [
+            (
+                Method::Segment,
+                &render_segment_lines_leg_in::<BlobtreeOnly>,
+                &render_segment_lines_leg_in::<BlobKinds>,
+            ),
+            (
+                Method::LinearBottomUp,
+                &render_linear_bottom_up_leg_in::<BlobtreeOnly>,
+                &render_linear_bottom_up_leg_in::<HrbfOnly>,
+            ),
+            (
+                Method::QuadraticBottomUp,
+                &render_quadratic_bottom_up_leg_in::<BlobtreeOnly>,
+                &render_quadratic_bottom_up_leg_in::<BlobsOnly>,
+            ),
+        ];
+        let mut hit_pixels = 0;
+        for (method, kernel, other) in kernels {
+            for mode in [Mode::Opaque, Mode::Transparent] {
+                let setup = six_by_six(scene.bounds(), method, mode);
+                let c = Constants {
+                    lipschitz: t.lipschitz_bound::<f32>().unwrap(),
+                    ..Constants::new(&setup, SceneKind::Blobtree, 0.0, 4, 0)
+                };
+                for y in 0..6 {
+                    for x in 0..6 {
+                        let run = |f: LegFn| one_leg(f, &c, (t.nodes(), t.params(), &[]), x, y);
+                        let (gpu, hs) = run(kernel);
+                        let mut rc = [r; 4];
+                        let cpu = trace_pixel_in(scene.field(), &setup, x, y, &mut rc, [0, 4]);
+                        let at = format!("{method} {mode:?} ({x}, {y})");
+                        assert_eq!(gpu.steps, cpu.trace.stats.steps, "{at}");
+                        assert_eq!(gpu.status, cpu.trace.status as u32, "{at}");
+                        assert_eq!(gpu.roots, cpu.trace.roots, "{at}");
+                        for k in 0..gpu.roots as usize {
+                            assert_eq!(hs[k].t.to_bits(), rc[k].t.to_bits(), "{at}");
+                        }
+                        hit_pixels += usize::from(gpu.roots > 0);
+                        let (o, _) = run(other);
+                        assert_eq!(o.status, Status::Unsupported as u32, "{at}");
+                    }
+                }
+            }
+        }
+        assert!(hit_pixels >= 24, "{hit_pixels}");
+    }
+
     #[test]
     fn blobtree_sphere_legs_trace_as_on_the_cpu() {
         use boundtrace_tracer::scenes::{DEFAULT_SEED, Scene, SceneField};

@@ -40,7 +40,12 @@
 //! modules' `trace_segment_*`, `trace_linear_taylor_*`,
 //! `trace_quadratic_taylor_*`, `trace_{linear,quadratic}_{bottom_up,mixed}_*`
 //! and `trace_sphere_blobtree` (sphere tracing of the `aggregate-*`
-//! blobtrees) entry points ([`leg_spirv_path`]) trace
+//! blobtrees), and for the HRBF scenes (no global Lipschitz or Taylor
+//! bound) `trace_segment_hrbf` (segment tracing with the CPU's bound, from
+//! bottom-up lines:
+//! [`trace_segment_lines_resume_in`](boundtrace_tracer::trace_segment_lines_resume_in))
+//! and `trace_{linear,quadratic}_bottom_up_hrbf` (session 34),
+//! entry points ([`leg_spirv_path`]) trace
 //! each pixel in resumable legs
 //! ([`boundtrace_gpu_kernel::render_sphere_leg_in`],
 //! [`boundtrace_gpu_kernel::render_segment_leg_in`], …), and
