@@ -21,8 +21,9 @@
 #     …-scalis.spv                        (`scalis-quadratic` and `interval` on SCALIS skeletons:
 #                                         `trace_scalis` and `trace_scalis_tight`)
 #     …-segment-hrbf.spv, …-linear-bottom-up-hrbf.spv,
-#     …-quadratic-bottom-up-hrbf.spv      (`Hrbf` scenes: segment tracing with bottom-up
-#                                         lines, the forward bottom-up methods)
+#     …-quadratic-bottom-up-hrbf.spv, …-linear-mixed-hrbf.spv,
+#     …-quadratic-mixed-hrbf.spv          (`Hrbf` scenes: segment tracing with bottom-up
+#                                         lines, the forward bottom-up and mixed methods)
 #
 # The bottom-up, mixed, SCALIS and HRBF modules are written as rust-gpu links them,
 # without spirv-opt (seconds instead of minutes, and a few GB instead of
@@ -109,7 +110,7 @@ if [ -z "${BOUNDTRACE_SHADER_FEATURES:-}" ]; then
     # The HRBF scenes (no global Lipschitz or Taylor bound): segment
     # tracing with the CPU's bound (bottom-up lines) and the bottom-up
     # methods, without spirv-opt likewise.
-    for method in segment linear-bottom-up quadratic-bottom-up; do
+    for method in segment linear-bottom-up quadratic-bottom-up linear-mixed quadratic-mixed; do
         echo "==> compiling the $method module for hrbf (no spirv-opt)"
         module "$method-hrbf" "${out%.spv}-$method-hrbf.spv" no-opt
     done

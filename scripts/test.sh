@@ -19,7 +19,7 @@ scripts/nightly.sh >/dev/null
 
 # The GPU preparation (lavapipe when no Vulkan driver, and the SPIR-V
 # modules: nine with spirv-opt, ~40 min cold on 2 cores, one core at a time, with peaks
-# of 14-18 GB, and twelve in seconds without it: bottom-up, mixed, SCALIS,
+# of 14-18 GB, and fourteen in seconds without it: bottom-up, mixed, SCALIS,
 # HRBF) runs in the background from here, while the CPU-only steps
 # below run beside it on one cargo job (so that the two fit in memory).
 # The GPU tests wait until the last module is built: beside a module build
@@ -168,8 +168,8 @@ gpu_tests_beside linear_mixed_matches_the_cpu_in_both_modes quadratic_mixed_matc
 # skeletons (the `scalis` module's two pipelines, shared by both methods:
 # about 4.5 min and 8.6 GB on lavapipe).
 gpu_tests scalis_methods_match_the_cpu_in_both_modes
-# Segment tracing and the bottom-up methods on the HRBF scenes (the three
-# `*-hrbf` modules: about 35 s per pipeline on lavapipe).
+# Segment tracing, the bottom-up and the mixed methods on the HRBF scenes
+# (the five `*-hrbf` modules: 35-70 s per pipeline on lavapipe).
 gpu_tests hrbf_methods_match_the_cpu_in_both_modes
 
 step "cargo test -p boundtrace-gpu: every other test (unit tests, probes, the rest of the difftests)"

@@ -1942,6 +1942,71 @@ mod tests {
         assert!(method_hits.iter().all(|&n| n > 8), "{method_hits:?}");
     }
 
+    /// A mixed method's leg kernel (`render_*_mixed_leg_in`).
+    type MixedFn = fn(
+        &Constants,
+        &[u32],
+        &[f32],
+        &[PointBlob<f32>],
+        u32,
+        u32,
+        &mut [Root<f32>],
+        &mut [HitOut],
+        usize,
+        &mut MixedLeg,
+        &mut PixelOut,
+    );
+
+    /// A mixed method's Taylor fill (`fill_*_taylor_in`).
+    type FillFn = fn(
+        &Constants,
+        &[u32],
+        &[f32],
+        &[PointBlob<f32>],
+        u32,
+        u32,
+        &mut [Root<f32>],
+        &mut [HitOut],
+        usize,
+        &mut MixedLeg,
+    );
+
+    /// Pixel `(x, y)` of the scene data `data` by the leg kernel `render`
+    /// alternated with the Taylor fill `fill` (as the host dispatches the
+    /// two pipelines) from a fresh leg until it is done, asserting one step
+    /// per leg at most: its record, its 4 hit slots and the legs run.
+    fn mixed_until_done(
+        render: MixedFn,
+        fill: FillFn,
+        c: &Constants,
+        (words, floats, blobs): (&[u32], &[f32], &[PointBlob<f32>]),
+        x: u32,
+        y: u32,
+    ) -> (PixelOut, [HitOut; 4], u32) {
+        let mut rb = [Root {
+            t: 0.0,
+            side: Side::Touch,
+        }; 4];
+        let mut hb = [HitOut::default(); 4];
+        let (mut leg, mut out) = (MixedLeg::default(), PixelOut::default());
+        let mut rounds = 0;
+        loop {
+            rounds += 1;
+            assert!(rounds < 10_000, "no progress");
+            let before = leg.leg.state.stats.steps;
+            render(
+                c, words, floats, blobs, x, y, &mut rb, &mut hb, 0, &mut leg, &mut out,
+            );
+            if leg.leg.phase == PHASE_DONE {
+                return (out, hb, rounds);
+            }
+            if leg.leg.phase == PHASE_TRACING {
+                assert!(leg.leg.state.stats.steps <= before + 1, "two steps");
+            }
+            fill(c, words, floats, blobs, x, y, &mut rb, &mut hb, 0, &mut leg);
+        }
+    }
+
     /// The mixed methods' leg kernels alternated with their Taylor fills
     /// (as the host dispatches the two pipelines) give `render_pixel`'s
     /// records and hits bit for bit, one step per leg at most; a kernel
@@ -1949,31 +2014,6 @@ mod tests {
     /// cache untouched.
     #[test]
     fn mixed_legs_with_their_taylor_fills_match_one_pass() {
-        type MixedFn = fn(
-            &Constants,
-            &[u32],
-            &[f32],
-            &[PointBlob<f32>],
-            u32,
-            u32,
-            &mut [Root<f32>],
-            &mut [HitOut],
-            usize,
-            &mut MixedLeg,
-            &mut PixelOut,
-        );
-        type FillFn = fn(
-            &Constants,
-            &[u32],
-            &[f32],
-            &[PointBlob<f32>],
-            u32,
-            u32,
-            &mut [Root<f32>],
-            &mut [HitOut],
-            usize,
-            &mut MixedLeg,
-        );
         let (blobs, bounds) = two_blobs();
         let kernels: [(Method, MixedFn, FillFn); 2] = [
             (
@@ -2000,34 +2040,8 @@ mod tests {
                     for x in 0..6 {
                         let (mut ra, mut ha) = ([r; 4], [HitOut::default(); 4]);
                         let a = render_pixel(&c, &[], &[], &blobs, x, y, &mut ra, &mut ha, 0);
-                        let (mut rb, mut hb) = ([r; 4], [HitOut::default(); 4]);
-                        let (mut leg, mut out) = (MixedLeg::default(), PixelOut::default());
-                        let mut rounds = 0;
-                        loop {
-                            rounds += 1;
-                            assert!(rounds < 10_000, "no progress");
-                            let before = leg.leg.state.stats.steps;
-                            render(
-                                &c,
-                                &[],
-                                &[],
-                                &blobs,
-                                x,
-                                y,
-                                &mut rb,
-                                &mut hb,
-                                0,
-                                &mut leg,
-                                &mut out,
-                            );
-                            if leg.leg.phase == PHASE_DONE {
-                                break;
-                            }
-                            if leg.leg.phase == PHASE_TRACING {
-                                assert!(leg.leg.state.stats.steps <= before + 1, "two steps");
-                            }
-                            fill(&c, &[], &[], &blobs, x, y, &mut rb, &mut hb, 0, &mut leg);
-                        }
+                        let (out, hb, rounds) =
+                            mixed_until_done(render, fill, &c, (&[], &[], &blobs), x, y);
                         assert_eq!((out, hb), (a, ha), "{method} {mode:?} ({x}, {y})");
                         assert!(
                             rounds > a.steps,
@@ -2249,6 +2263,59 @@ mod tests {
                 assert!(unsupported(gpu), "{method}");
             }
         }
+    }
+
+    /// The mixed methods on [`SceneKind::Hrbf`] (no Taylor bound: the
+    /// bottom-up side alone, as on the CPU): their leg kernels alternated
+    /// with their Taylor fills trace `hrbf-8` as the CPU does, bit for bit.
+    #[test]
+    fn hrbf_mixed_legs_trace_as_on_the_cpu() {
+        use boundtrace_tracer::scenes::{DEFAULT_SEED, Scene, SceneField};
+        let scene = Scene::<f32>::build("hrbf-8", DEFAULT_SEED).unwrap();
+        let SceneField::Hrbf(h) = scene.field() else {
+            panic!("hrbf-8 is an HRBF");
+        };
+        let mut floats = h.center_words();
+        floats.extend_from_slice(&h.poly());
+        let kernels: [(Method, MixedFn, FillFn); 2] = [
+            (
+                Method::LinearMixed,
+                render_linear_mixed_leg_in::<HrbfOnly>,
+                fill_linear_taylor_in::<HrbfOnly>,
+            ),
+            (
+                Method::QuadraticMixed,
+                render_quadratic_mixed_leg_in::<HrbfOnly>,
+                fill_quadratic_taylor_in::<HrbfOnly>,
+            ),
+        ];
+        let mut hit_pixels = 0;
+        for (method, render, fill) in kernels {
+            for mode in [Mode::Opaque, Mode::Transparent] {
+                let setup = six_by_six(scene.bounds(), method, mode);
+                let c = Constants::new(&setup, SceneKind::Hrbf, 0.0, 4, h.centers().len() as u32);
+                for y in 0..6 {
+                    for x in 0..6 {
+                        let (gpu, hs, _) =
+                            mixed_until_done(render, fill, &c, (&[], &floats, &[]), x, y);
+                        let mut rc = [Root {
+                            t: 0.0,
+                            side: Side::Touch,
+                        }; 4];
+                        let cpu = trace_pixel_in(scene.field(), &setup, x, y, &mut rc, [0, 4]);
+                        let at = format!("{method} {mode:?} ({x}, {y})");
+                        assert_eq!(gpu.steps, cpu.trace.stats.steps, "{at}");
+                        assert_eq!(gpu.status, cpu.trace.status as u32, "{at}");
+                        assert_eq!(gpu.roots, cpu.trace.roots, "{at}");
+                        for k in 0..gpu.roots as usize {
+                            assert_eq!(hs[k].t.to_bits(), rc[k].t.to_bits(), "{at}");
+                        }
+                        hit_pixels += usize::from(gpu.roots > 0);
+                    }
+                }
+            }
+        }
+        assert!(hit_pixels >= 16, "{hit_pixels}");
     }
 
     /// The blobtree's segment-tracing (bottom-up lines) and forward

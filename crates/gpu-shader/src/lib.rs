@@ -26,10 +26,12 @@
 //!   inclusions from Taylor bounds), features `linear-taylor-blobs`, …:
 //!   each in a module of its own (`scripts/build-spirv.sh` builds all
 //!   eight);
-//! - `trace_segment_hrbf`, `trace_linear_bottom_up_hrbf` and
-//!   `trace_quadratic_bottom_up_hrbf`: the HRBF scenes (segment tracing
-//!   with the CPU's bound, from bottom-up lines; the forward bottom-up
-//!   methods), features `segment-hrbf`, …, a module each;
+//! - `trace_segment_hrbf`, `trace_linear_bottom_up_hrbf`,
+//!   `trace_quadratic_bottom_up_hrbf` and the mixed pairs
+//!   `{trace,taylor}_{linear,quadratic}_mixed_hrbf`: the HRBF scenes
+//!   (segment tracing with the CPU's bound, from bottom-up lines; the
+//!   forward bottom-up and mixed methods), features `segment-hrbf`, …, a
+//!   module each;
 //! - `trace_scalis` and `trace_scalis_tight` (its intervals' tight
 //!   stages, a pipeline of its own): `scalis-quadratic` and the
 //!   per-primitive `interval` bisection on SCALIS skeletons
@@ -496,6 +498,27 @@ mixed_entry_points!(
     kernel::render_quadratic_mixed_leg_in::<kernel::GroupsOnly>,
     taylor_quadratic_mixed_groups,
     kernel::fill_quadratic_taylor_in::<kernel::GroupsOnly>
+);
+
+mixed_entry_points!(
+    /// `linear-mixed` on `SceneKind::Hrbf` scenes (no Taylor bound: the
+    /// bottom-up side alone, as on the CPU; the Taylor side finds none),
+    /// feature `linear-mixed-hrbf`.
+    "linear-mixed-hrbf",
+    trace_linear_mixed_hrbf,
+    kernel::render_linear_mixed_leg_in::<kernel::HrbfOnly>,
+    taylor_linear_mixed_hrbf,
+    kernel::fill_linear_taylor_in::<kernel::HrbfOnly>
+);
+
+mixed_entry_points!(
+    /// `quadratic-mixed` on `SceneKind::Hrbf` scenes, feature
+    /// `quadratic-mixed-hrbf`.
+    "quadratic-mixed-hrbf",
+    trace_quadratic_mixed_hrbf,
+    kernel::render_quadratic_mixed_leg_in::<kernel::HrbfOnly>,
+    taylor_quadratic_mixed_hrbf,
+    kernel::fill_quadratic_taylor_in::<kernel::HrbfOnly>
 );
 
 leg_entry_point!(

@@ -44,7 +44,7 @@
 //! bound) `trace_segment_hrbf` (segment tracing with the CPU's bound, from
 //! bottom-up lines:
 //! [`trace_segment_lines_resume_in`](boundtrace_tracer::trace_segment_lines_resume_in))
-//! and `trace_{linear,quadratic}_bottom_up_hrbf` (session 34),
+//! and `trace_{linear,quadratic}_{bottom_up,mixed}_hrbf` (session 34),
 //! entry points ([`leg_spirv_path`]) trace
 //! each pixel in resumable legs
 //! ([`boundtrace_gpu_kernel::render_sphere_leg_in`],
@@ -194,7 +194,7 @@ const SPHERE_ENTRY: &str = "trace_sphere";
 /// file name and its entry point (`segment-blobs`: feature
 /// `segment-blobs`, `…-segment-blobs.spv`, `trace_segment_blobs`); see
 /// [`leg_spirv_path`].
-const LEG_MODULE_LIST: [(Method, SceneKind, &str); 20] = [
+const LEG_MODULE_LIST: [(Method, SceneKind, &str); 22] = [
     (Method::Segment, SceneKind::Blobs, "segment-blobs"),
     (Method::Segment, SceneKind::BlobGroups, "segment-groups"),
     (
@@ -255,8 +255,8 @@ const LEG_MODULE_LIST: [(Method, SceneKind, &str); 20] = [
         "quadratic-mixed-groups",
     ),
     // The HRBF scenes: segment tracing with the CPU's bound (bottom-up
-    // lines) and the bottom-up methods (an HRBF has no global Lipschitz or
-    // Taylor bound).
+    // lines), the bottom-up and the mixed methods (an HRBF has no global
+    // Lipschitz or Taylor bound).
     (Method::Segment, SceneKind::Hrbf, "segment-hrbf"),
     (
         Method::LinearBottomUp,
@@ -267,6 +267,13 @@ const LEG_MODULE_LIST: [(Method, SceneKind, &str); 20] = [
         Method::QuadraticBottomUp,
         SceneKind::Hrbf,
         "quadratic-bottom-up-hrbf",
+    ),
+    // (their bottom-up side alone, as on the CPU)
+    (Method::LinearMixed, SceneKind::Hrbf, "linear-mixed-hrbf"),
+    (
+        Method::QuadraticMixed,
+        SceneKind::Hrbf,
+        "quadratic-mixed-hrbf",
     ),
     // One module and entry point (`trace_scalis`) for both methods of the
     // pre-segmented SCALIS processing.
@@ -467,8 +474,8 @@ impl GpuScene {
     /// `scalis-quadratic` and `interval` in the `scalis` module; the frame's
     /// primitive lists are built at each render), and the HRBF scenes
     /// (`hrbf-8`, `hrbf-17`: the centers and polynomial, for `segment` with
-    /// the CPU's bottom-up bound, `linear-bottom-up` and `quadratic-bottom-up`
-    /// in the `*-hrbf` modules; an HRBF has no global Lipschitz or Taylor
+    /// the CPU's bottom-up bound and the bottom-up and mixed methods in the
+    /// `*-hrbf` modules; an HRBF has no global Lipschitz or Taylor
     /// bound, so sphere tracing and the Taylor methods are unsupported on it,
     /// as on the CPU).
     ///
@@ -2603,6 +2610,8 @@ mod tests {
             Method::Segment,
             Method::LinearBottomUp,
             Method::QuadraticBottomUp,
+            Method::LinearMixed,
+            Method::QuadraticMixed,
         ] {
             assert!(leg_slot(method, SceneKind::Hrbf).is_some(), "{method}");
         }

@@ -532,9 +532,11 @@ fn quadratic_mixed_matches_the_cpu_in_both_modes() {
 const HRBF_SCENES: &[SceneCase] = &[("hrbf-8", 24, true), ("hrbf-17", 24, false)];
 
 /// The GPU methods of the HRBF scenes: segment tracing with the CPU's bound
-/// (Galin et al.'s `λ` from bottom-up lines, `trace_segment_hrbf`) and the
+/// (Galin et al.'s `λ` from bottom-up lines, `trace_segment_hrbf`), the
 /// forward bottom-up methods (`trace_linear_bottom_up_hrbf`,
-/// `trace_quadratic_bottom_up_hrbf`), against the CPU on every pixel of
+/// `trace_quadratic_bottom_up_hrbf`) and the mixed ones (their bottom-up
+/// side alone, as on the CPU: `{trace,taylor}_*_mixed_hrbf`), against the
+/// CPU on every pixel of
 /// `hrbf-8` and `hrbf-17`, opaque and transparent, with the issue's
 /// thresholds. (An HRBF has no global Lipschitz or Taylor bound: sphere
 /// tracing and the Taylor methods are unsupported on it, on the CPU too.)
@@ -545,6 +547,8 @@ fn hrbf_methods_match_the_cpu_in_both_modes() {
         Method::Segment,
         Method::LinearBottomUp,
         Method::QuadraticBottomUp,
+        Method::LinearMixed,
+        Method::QuadraticMixed,
     ];
     assert_none_failed(&run_with(&gpu, &methods, HRBF_SCENES, true));
 }
