@@ -24,8 +24,10 @@
 #     …-quadratic-bottom-up-hrbf.spv, …-linear-mixed-hrbf.spv,
 #     …-quadratic-mixed-hrbf.spv          (`Hrbf` scenes: segment tracing with bottom-up
 #                                         lines, the forward bottom-up and mixed methods)
+#     …-sphere-homothetic.spv, …-segment-homothetic.spv,
+#     …-linear-taylor-homothetic.spv      (`Homothetic` skeletons of scene files)
 #
-# The bottom-up, mixed, SCALIS and HRBF modules are written as rust-gpu links them,
+# The bottom-up, mixed, SCALIS, HRBF and homothetic modules are written as rust-gpu links them,
 # without spirv-opt (seconds instead of minutes, and a few GB instead of
 # ~19 GB or more than this machine's 24 GB): the driver inlines and
 # optimises them (lavapipe does, in about the time it takes with an
@@ -113,5 +115,13 @@ if [ -z "${BOUNDTRACE_SHADER_FEATURES:-}" ]; then
     for method in segment linear-bottom-up quadratic-bottom-up linear-mixed quadratic-mixed; do
         echo "==> compiling the $method module for hrbf (no spirv-opt)"
         module "$method-hrbf" "${out%.spv}-$method-hrbf.spv" no-opt
+    done
+    # The homothetic-distance skeletons of scene files (global and
+    # directional Lipschitz bounds, no quadratic Taylor bound), likewise;
+    # no bottom-up or mixed module (lavapipe cannot compile their
+    # pipelines in 24 GB: BENCHMARKS.md "GPU", session 35).
+    for method in sphere segment linear-taylor; do
+        echo "==> compiling the $method module for homothetic skeletons (no spirv-opt)"
+        module "$method-homothetic" "${out%.spv}-$method-homothetic.spv" no-opt
     done
 fi

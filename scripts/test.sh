@@ -169,8 +169,10 @@ gpu_tests_beside linear_mixed_matches_the_cpu_in_both_modes quadratic_mixed_matc
 # about 4.5 min and 8.6 GB on lavapipe).
 gpu_tests scalis_methods_match_the_cpu_in_both_modes
 # Segment tracing, the bottom-up and the mixed methods on the HRBF scenes
-# (the five `*-hrbf` modules: 35-70 s per pipeline on lavapipe).
-gpu_tests hrbf_methods_match_the_cpu_in_both_modes
+# (the five `*-hrbf` modules: 35-70 s per pipeline on lavapipe), beside
+# the three methods of a homothetic-distance skeleton (the `*-homothetic`
+# modules: 35-145 s per pipeline).
+gpu_tests_beside hrbf_methods_match_the_cpu_in_both_modes homothetic_methods_match_the_cpu_in_both_modes
 
 step "cargo test -p boundtrace-gpu: every other test (unit tests, probes, the rest of the difftests)"
 skips=()

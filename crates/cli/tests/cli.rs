@@ -416,8 +416,8 @@ fn gpu_backend_without_gpu_is_a_clear_error() {
 /// `trace_sphere` and `trace_quadratic_taylor_blobs` entry points; their
 /// agreement with the CPU is the GPU crate's difftest), and a method
 /// without a GPU entry point in the module is a clear error with nothing
-/// written; an HRBF renders with the GPU's default method on it, and a
-/// standard blobtree by tile programs.
+/// written; an HRBF and a homothetic skeleton render with the GPU's
+/// default method on them, and a standard blobtree by tile programs.
 #[cfg(feature = "gpu")]
 #[test]
 fn gpu_backend_renders_sphere_tracing() {
@@ -513,6 +513,24 @@ fn gpu_backend_renders_sphere_tracing() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(stdout(&o).contains("quadratic-bottom-up"), "{}", stdout(&o));
     let png = std::fs::read(&hrbf_png).unwrap();
+    assert!(png.len() > 8 && png[1..4] == *b"PNG", "not a PNG");
+    // A homothetic skeleton (a scene file) renders with the GPU's default
+    // method on it, `linear-taylor` (the CPU's, `interval`, has no GPU code).
+    let homothetic = scene_path("skeleton-homothetic.json");
+    let homothetic_png = d.path("homothetic.png");
+    let o = run(&[
+        "render",
+        &homothetic,
+        "-o",
+        &homothetic_png,
+        "--backend",
+        "gpu",
+        "--size",
+        "8x8",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stdout(&o).contains("linear-taylor"), "{}", stdout(&o));
+    let png = std::fs::read(&homothetic_png).unwrap();
     assert!(png.len() > 8 && png[1..4] == *b"PNG", "not a PNG");
     // A blobtree (a standard scene by name) renders with one program per
     // 8 × 8 tile (`TilePrograms`): the 11,110-primitive `aggregate-4` too.

@@ -92,6 +92,44 @@ pub struct Segment<T> {
     slope: T,
 }
 
+/// The number of `T` words of a [`Segment`] as stored (`#[repr(C)]`, in
+/// memory order: `a`, `r_a`, `b`, `r_b`, the unit axis, the length and the
+/// radius slope): [`Segment::to_words`] and [`Segment::from_words_unchecked`],
+/// the flat data of a GPU buffer.
+pub const SEGMENT_WORDS: usize = 13;
+
+impl<T: Copy> Segment<T> {
+    /// The segment's [`SEGMENT_WORDS`] words in memory order (the derived
+    /// axis, length and slope included, so that a segment rebuilt from them
+    /// is this one bit for bit).
+    pub fn to_words(&self) -> [T; SEGMENT_WORDS] {
+        let (a, b, u) = (self.a, self.b, self.u);
+        [
+            a[0], a[1], a[2], self.ra, b[0], b[1], b[2], self.rb, u[0], u[1], u[2], self.len,
+            self.slope,
+        ]
+    }
+
+    /// The segment stored at `words[at..at + SEGMENT_WORDS]` (as
+    /// [`to_words`](Self::to_words) writes it), without the checks of
+    /// [`new`](Segment::new): for the GPU kernel, whose host wrote the words
+    /// of valid segments. Indexes past `words` if it is too short (a panic
+    /// on the CPU); invalid words give non-finite values, never a panic.
+    #[inline]
+    pub fn from_words_unchecked(words: &[T], at: usize) -> Self {
+        let w = |k: usize| words[at + k];
+        Self {
+            a: [w(0), w(1), w(2)],
+            ra: w(3),
+            b: [w(4), w(5), w(6)],
+            rb: w(7),
+            u: [w(8), w(9), w(10)],
+            len: w(11),
+            slope: w(12),
+        }
+    }
+}
+
 impl<T: Real> Segment<T> {
     /// A segment from `a` (radius `ra`) to `b` (radius `rb`).
     ///
@@ -481,18 +519,31 @@ impl<T: Real> SegmentKernel<T> {
 
     /// `k` at the squared distance `h2 ≥ 0`, in any number type.
     pub fn eval_sq<N: FieldNum<T>>(&self, h2: N) -> N {
+        let [kind, degree] = self.code();
+        kernel_sq(kind, degree, self.sigma(), h2)
+    }
+
+    /// The kernel's plain-data code `[kind, degree]`: kind
+    /// [`KERNEL_COMPACT`] or [`KERNEL_CAUCHY`] (with
+    /// [`sigma`](Self::sigma), what
+    /// [`from_code_unchecked`](Self::from_code_unchecked) rebuilds it
+    /// from: an enum with data is not GPU buffer data).
+    pub fn code(&self) -> [u32; 2] {
         match *self {
-            Self::CompactPolynomial { degree, sigma } => (h2 / (sigma * sigma))
-                .one_minus_clamped()
-                .powi((degree / 2) as i32),
-            Self::Cauchy { degree, sigma } => {
-                let b = h2 / (sigma * sigma) + T::ONE;
-                if degree % 2 == 0 {
-                    b.powi((degree / 2) as i32).recip()
-                } else {
-                    b.powi(degree as i32).sqrt().recip()
-                }
-            }
+            Self::CompactPolynomial { degree, .. } => [KERNEL_COMPACT, degree],
+            Self::Cauchy { degree, .. } => [KERNEL_CAUCHY, degree],
+        }
+    }
+
+    /// The kernel of [`code`](Self::code) `[kind, degree]` and scale
+    /// `sigma`, without the checks of the constructors (any kind but
+    /// [`KERNEL_COMPACT`] is Cauchy).
+    pub fn from_code_unchecked(code: [u32; 2], sigma: T) -> Self {
+        let [kind, degree] = code;
+        if kind == KERNEL_COMPACT {
+            Self::CompactPolynomial { degree, sigma }
+        } else {
+            Self::Cauchy { degree, sigma }
         }
     }
 
@@ -500,6 +551,30 @@ impl<T: Real> SegmentKernel<T> {
     pub fn sigma(&self) -> T {
         match *self {
             Self::CompactPolynomial { sigma, .. } | Self::Cauchy { sigma, .. } => sigma,
+        }
+    }
+}
+
+/// [`SegmentKernel::code`]'s kind of a compact polynomial kernel.
+pub const KERNEL_COMPACT: u32 = 0;
+/// [`SegmentKernel::code`]'s kind of a Cauchy kernel.
+pub const KERNEL_CAUCHY: u32 = 1;
+
+/// [`SegmentKernel::eval_sq`] from the kernel's plain data (its
+/// [`code`](SegmentKernel::code) and `σ`), with no enum: the form that the
+/// GPU's fields evaluate (any kind but [`KERNEL_COMPACT`] is Cauchy).
+#[inline]
+pub(crate) fn kernel_sq<T: Real, N: FieldNum<T>>(kind: u32, degree: u32, sigma: T, h2: N) -> N {
+    if kind == KERNEL_COMPACT {
+        (h2 / (sigma * sigma))
+            .one_minus_clamped()
+            .powi((degree / 2) as i32)
+    } else {
+        let b = h2 / (sigma * sigma) + T::ONE;
+        if degree % 2 == 0 {
+            b.powi((degree / 2) as i32).recip()
+        } else {
+            b.powi(degree as i32).sqrt().recip()
         }
     }
 }

@@ -82,20 +82,90 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use crate::FieldError;
-use crate::homothetic::{Plain, Segment, SegmentKernel};
+use crate::homothetic::{KERNEL_COMPACT, Plain, SEGMENT_WORDS, Segment, SegmentKernel, kernel_sq};
 use boundtrace_ia_core::{Interval, Real};
 use boundtrace_inclusion::{Field, FieldNum, ForwardLinear, Ray};
+
+/// Storage of [`Segment`]s that a [`HomotheticSkeleton`] reads one by one
+/// (its `S`): every `AsRef<[Segment<T>]>` (an array, a slice, a `Vec`) and
+/// [`FlatSegments`], the segments as plain words (the GPU's buffers).
+pub trait HomotheticSegments<T> {
+    /// The number of segments.
+    fn count(&self) -> usize;
+    /// Segment `i` (`i < count()`).
+    fn segment(&self, i: usize) -> Segment<T>;
+}
+
+impl<T: Copy, S: AsRef<[Segment<T>]>> HomotheticSegments<T> for S {
+    #[inline]
+    fn count(&self) -> usize {
+        self.as_ref().len()
+    }
+    #[inline]
+    fn segment(&self, i: usize) -> Segment<T> {
+        self.as_ref()[i]
+    }
+}
+
+/// Segments stored as plain words, [`SEGMENT_WORDS`] per segment in
+/// [`Segment::to_words`]' order: the flat data that the GPU kernel reads
+/// from a `f32` buffer. A skeleton over it is the skeleton over the same
+/// segments as structs, bit for bit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FlatSegments<'a, T> {
+    words: &'a [T],
+    count: usize,
+}
+
+impl<'a, T> FlatSegments<'a, T> {
+    /// The first `count` segments of `words`; `None` when `words` holds
+    /// fewer than `count ·` [`SEGMENT_WORDS`] words. Extra words are left
+    /// out.
+    pub fn new(words: &'a [T], count: usize) -> Option<Self> {
+        let needed = count.checked_mul(SEGMENT_WORDS)?;
+        (needed <= words.len()).then_some(Self { words, count })
+    }
+
+    /// [`new`](Self::new) without the length check, for the GPU kernel
+    /// (no `Option` to move): `count ·` [`SEGMENT_WORDS`] `≤ words.len()`
+    /// is the caller's to check, else the field's evaluation indexes past
+    /// the words (a panic on the CPU).
+    pub const fn new_unchecked(words: &'a [T], count: usize) -> Self {
+        Self { words, count }
+    }
+}
+
+impl<T: Copy> HomotheticSegments<T> for FlatSegments<'_, T> {
+    #[inline]
+    fn count(&self) -> usize {
+        self.count
+    }
+    #[inline]
+    fn segment(&self, i: usize) -> Segment<T> {
+        Segment::from_words_unchecked(self.words, i * SEGMENT_WORDS)
+    }
+}
+
+/// The number of `T` words of a skeleton's parameters
+/// ([`HomotheticSkeleton::parameter_words`]): `σ`, the iso-value, the
+/// normalization `c`, the two ends of the interval around `h*` and the
+/// slope bound.
+pub const PARAMETER_WORDS: usize = 6;
 
 /// A sum of homothetic-distance primitives `k ∘ h_{Sᵢ}` over segments
 /// sharing one kernel, as the field `iso − c·Σᵢ k(h_{Sᵢ}(p))` (module
 /// docs).
 ///
-/// `S` is any storage of [`Segment`]s: an array, a slice or a `Vec`.
+/// `S` is any storage of [`Segment`]s ([`HomotheticSegments`]): an array,
+/// a slice, a `Vec`, or [`FlatSegments`].
 /// Evaluation is allocation- and recursion-free.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HomotheticSkeleton<T, S> {
     segments: S,
-    kernel: SegmentKernel<T>,
+    /// The kernel as plain data ([`SegmentKernel::code`] and `σ`): the
+    /// field's evaluation matches no enum, so that the GPU runs it.
+    code: [u32; 2],
+    sigma: T,
     iso: T,
     /// `c ≈ 1/k(1)`: the field's normalization (exact by definition).
     scale: T,
@@ -105,7 +175,73 @@ pub struct HomotheticSkeleton<T, S> {
     slope_max: T,
 }
 
+impl<T: Real, S> HomotheticSkeleton<T, S> {
+    /// The skeleton of [`new`](Self::new) from its parts as
+    /// [`parameter_words`](Self::parameter_words) gives them, without
+    /// checks or derivations: for the GPU kernel, whose host took the
+    /// words from a skeleton built by [`new`](Self::new) (the same field
+    /// then, bit for bit). Invalid words give non-finite values, never a
+    /// panic.
+    pub fn from_parameter_words_unchecked(
+        segments: S,
+        code: [u32; 2],
+        words: [T; PARAMETER_WORDS],
+    ) -> Self {
+        Self {
+            segments,
+            code,
+            sigma: words[0],
+            iso: words[1],
+            scale: words[2],
+            h_star: Interval::new(words[3], words[4]),
+            slope_max: words[5],
+        }
+    }
+
+    /// The parameters as plain data: the kernel's
+    /// [`code`](SegmentKernel::code) and the [`PARAMETER_WORDS`] words `σ`,
+    /// iso-value, normalization `c`, `h*`'s interval (two words) and the
+    /// slope bound, what
+    /// [`from_parameter_words_unchecked`](Self::from_parameter_words_unchecked)
+    /// takes.
+    pub fn parameter_words(&self) -> ([u32; 2], [T; PARAMETER_WORDS]) {
+        (
+            self.code,
+            [
+                self.sigma,
+                self.iso,
+                self.scale,
+                self.h_star.lo(),
+                self.h_star.hi(),
+                self.slope_max,
+            ],
+        )
+    }
+}
+
 impl<T: Real, S: AsRef<[Segment<T>]>> HomotheticSkeleton<T, S> {
+    /// The segments.
+    #[inline]
+    pub fn segments(&self) -> &[Segment<T>] {
+        self.segments.as_ref()
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl<T: Real, S: HomotheticSegments<T>> HomotheticSkeleton<T, S> {
+    /// The segments as flat words, [`SEGMENT_WORDS`] per segment
+    /// ([`FlatSegments`]' data, the GPU's buffer).
+    pub fn segment_words(&self) -> alloc::vec::Vec<T> {
+        let n = self.segments.count();
+        let mut w = alloc::vec::Vec::with_capacity(n * SEGMENT_WORDS);
+        for i in 0..n {
+            w.extend_from_slice(&self.segments.segment(i).to_words());
+        }
+        w
+    }
+}
+
+impl<T: Real, S: HomotheticSegments<T>> HomotheticSkeleton<T, S> {
     /// The skeleton of `segments` with `kernel`, for the iso-value `iso`
     /// (`iso = 1`: an isolated segment's surface is its sphere-cone).
     ///
@@ -115,7 +251,7 @@ impl<T: Real, S: AsRef<[Segment<T>]>> HomotheticSkeleton<T, S> {
     /// not finite and `> 0`, a compact kernel has `σ ≤ 1` (then `k(1) = 0`),
     /// or `1/k(1)` overflows `T`.
     pub fn new(segments: S, kernel: SegmentKernel<T>, iso: T) -> Result<Self, FieldError> {
-        if segments.as_ref().is_empty() {
+        if segments.count() == 0 {
             return Err(FieldError::InvalidParameter {
                 name: "segments",
                 reason: "a skeleton needs at least one segment",
@@ -147,7 +283,8 @@ impl<T: Real, S: AsRef<[Segment<T>]>> HomotheticSkeleton<T, S> {
         let h_star = Interval::point(sigma) / Interval::point(T::from_f64(f64::from(denom))).sqrt();
         let mut out = Self {
             segments,
-            kernel,
+            code: kernel.code(),
+            sigma,
             iso,
             scale,
             h_star,
@@ -163,16 +300,29 @@ impl<T: Real, S: AsRef<[Segment<T>]>> HomotheticSkeleton<T, S> {
         Ok(out)
     }
 
-    /// The segments.
+    /// The number of segments.
     #[inline]
-    pub fn segments(&self) -> &[Segment<T>] {
-        self.segments.as_ref()
+    pub fn segment_count(&self) -> usize {
+        self.segments.count()
     }
 
     /// The shared kernel.
     #[inline]
     pub fn kernel(&self) -> SegmentKernel<T> {
-        self.kernel
+        SegmentKernel::from_code_unchecked(self.code, self.sigma)
+    }
+
+    /// `k(h)` at the squared distance `h2` (the kernel's plain data, no
+    /// enum).
+    #[inline]
+    fn kernel_sq<N: FieldNum<T>>(&self, h2: N) -> N {
+        kernel_sq(self.code[0], self.code[1], self.sigma, h2)
+    }
+
+    /// Whether the kernel is compact (else Cauchy).
+    #[inline]
+    fn compact(&self) -> bool {
+        self.code[0] == KERNEL_COMPACT
     }
 
     /// The iso-value.
@@ -199,30 +349,27 @@ impl<T: Real, S: AsRef<[Segment<T>]>> HomotheticSkeleton<T, S> {
     /// degree 2 it over-estimates beyond `σ` (where `k' = 0`), which is
     /// sound.
     fn slope_enclosure(&self, hs: Interval<T>) -> Interval<T> {
-        let sigma = Interval::point(self.kernel.sigma());
+        let sigma = Interval::point(self.sigma);
         let s2 = sigma.sqr();
         let u = hs.sqr() / s2;
-        match self.kernel {
-            SegmentKernel::CompactPolynomial { degree, .. } => {
-                let m = degree / 2;
-                let lead = hs * Interval::point(T::from_f64(f64::from(degree))) / s2;
-                if m == 1 {
-                    lead
-                } else {
-                    lead * u.one_minus_clamped().powi((m - 1) as i32)
-                }
+        let degree = self.code[1];
+        let lead = hs * Interval::point(T::from_f64(f64::from(degree))) / s2;
+        if self.compact() {
+            let m = degree / 2;
+            if m == 1 {
+                lead
+            } else {
+                lead * u.one_minus_clamped().powi((m - 1) as i32)
             }
-            SegmentKernel::Cauchy { degree, .. } => {
-                let lead = hs * Interval::point(T::from_f64(f64::from(degree))) / s2;
-                let b = u + Interval::point(T::ONE);
-                let e = degree + 2;
-                let den = if e % 2 == 0 {
-                    b.powi((e / 2) as i32)
-                } else {
-                    b.powi(e as i32).sqrt()
-                };
-                lead / den
-            }
+        } else {
+            let b = u + Interval::point(T::ONE);
+            let e = degree + 2;
+            let den = if e % 2 == 0 {
+                b.powi((e / 2) as i32)
+            } else {
+                b.powi(e as i32).sqrt()
+            };
+            lead / den
         }
     }
 
@@ -235,10 +382,8 @@ impl<T: Real, S: AsRef<[Segment<T>]>> HomotheticSkeleton<T, S> {
         }
         let lo = hs.lo().max(T::ZERO);
         let hi = hs.hi();
-        if let SegmentKernel::CompactPolynomial { sigma, .. } = self.kernel {
-            if lo >= sigma {
-                return T::ZERO;
-            }
+        if self.compact() && lo >= self.sigma {
+            return T::ZERO;
         }
         let at = if hi <= self.h_star.lo() {
             Interval::point(hi)
@@ -259,10 +404,13 @@ impl<T: Real, S: AsRef<[Segment<T>]>> HomotheticSkeleton<T, S> {
     /// three roundings of `x ∓ σ·r` (each `≤ ε/2` relative, or half a
     /// subnormal), so the box contains the exact one.
     pub fn support_box(&self, s: &Segment<T>) -> Option<[[T; 3]; 2]> {
-        let SegmentKernel::CompactPolynomial { sigma, .. } = self.kernel else {
-            return None;
-        };
-        let grow = sigma * s.ra().max(s.rb());
+        self.compact().then(|| self.compact_support_box(s))
+    }
+
+    /// [`support_box`](Self::support_box) of a compact kernel, with no
+    /// `Option` (the evaluation path, which the GPU runs).
+    fn compact_support_box(&self, s: &Segment<T>) -> [[T; 3]; 2] {
+        let grow = self.sigma * s.ra().max(s.rb());
         let four = T::TWO * T::TWO;
         let tiny = four * T::MIN_SUBNORMAL;
         let (a, b) = (s.a(), s.b());
@@ -275,24 +423,24 @@ impl<T: Real, S: AsRef<[Segment<T>]>> HomotheticSkeleton<T, S> {
             hi[k] = mx + grow + ((mx.abs() + grow) * four * T::EPSILON + tiny);
             k += 1;
         }
-        Some([lo, hi])
+        [lo, hi]
     }
 
     /// Whether the enclosure `e` of the query certainly misses segment
     /// `s`'s support box (always `false` for the Cauchy kernel).
     #[inline]
     fn misses(&self, s: &Segment<T>, e: &[Interval<T>; 3]) -> bool {
-        let Some([lo, hi]) = self.support_box(s) else {
+        if !self.compact() {
             return false;
-        };
+        }
+        let [lo, hi] = self.compact_support_box(s);
+        let mut out = false;
         let mut k = 0;
         while k < 3 {
-            if !e[k].is_empty() && (e[k].hi() < lo[k] || e[k].lo() > hi[k]) {
-                return true;
-            }
+            out |= !e[k].is_empty() && (e[k].hi() < lo[k] || e[k].lo() > hi[k]);
             k += 1;
         }
-        false
+        out
     }
 
     /// The normalized density `c·Σᵢ k(h_{Sᵢ}(p))` (segments whose support
@@ -301,20 +449,27 @@ impl<T: Real, S: AsRef<[Segment<T>]>> HomotheticSkeleton<T, S> {
         let e = [p[0].enclosure(), p[1].enclosure(), p[2].enclosure()];
         // `0` carrying the query's validity (see `crate::zero_like`).
         let mut acc = crate::zero_like::<T, N>(&p[0]);
-        for s in self.segments.as_ref() {
-            if self.misses(s, &e) {
+        // An index loop over the storage (`FlatSegments` on the GPU).
+        let mut i = 0;
+        while i < self.segments.count() {
+            let s = self.segments.segment(i);
+            i += 1;
+            if self.misses(&s, &e) {
                 continue;
             }
-            let mut term = self.kernel.eval_sq(s.homothetic_sq(p));
+            let mut term = self.kernel_sq(s.homothetic_sq(p));
             let enc = term.enclosure();
-            if !enc.is_empty() && !enc.is_bounded() {
+            if N::IS_FORM && !enc.is_empty() && !enc.is_bounded() {
                 // Affine and forward forms of the closed form can blow up
                 // (division by the floored `τ_x`, then clamps that cannot
                 // recover an infinite form) where intervals stay tight:
                 // replace the term by its interval enclosure on the query's
                 // box, within the kernel's range [0, 1] (sound: every value
-                // of the term on the query lies in both).
-                let r: Interval<T> = self.kernel.eval_sq(s.homothetic_sq(e));
+                // of the term on the query lies in both). A point, jet or
+                // interval term is never unbounded (the kernel's clamp or
+                // reciprocal keeps it in [0, 1], or NaN), so other types
+                // compile this out (`FieldNum::IS_FORM`).
+                let r: Interval<T> = self.kernel_sq(s.homothetic_sq(e));
                 let (lo, hi) = if r.is_empty() {
                     (T::ZERO, T::ONE)
                 } else {
@@ -335,8 +490,11 @@ impl<T: Real, S: AsRef<[Segment<T>]>> HomotheticSkeleton<T, S> {
         let iv = Interval::point;
         let speed = (iv(ray.dir[0]).sqr() + iv(ray.dir[1]).sqr() + iv(ray.dir[2]).sqr()).sqrt();
         let mut acc = iv(T::ZERO);
-        for s in self.segments.as_ref() {
-            if self.misses(s, &e) {
+        let mut i = 0;
+        while i < self.segments.count() {
+            let s = self.segments.segment(i);
+            i += 1;
+            if self.misses(&s, &e) {
                 continue;
             }
             let hs = s.homothetic_sq(e).sqrt();
@@ -350,7 +508,7 @@ impl<T: Real, S: AsRef<[Segment<T>]>> HomotheticSkeleton<T, S> {
     }
 }
 
-impl<T: Real, S: AsRef<[Segment<T>]>> Field<T> for HomotheticSkeleton<T, S> {
+impl<T: Real, S: HomotheticSegments<T>> Field<T> for HomotheticSkeleton<T, S> {
     fn eval<N: FieldNum<T>>(&self, p: [N; 3]) -> N {
         -self.density(p) + self.iso
     }
@@ -360,8 +518,11 @@ impl<T: Real, S: AsRef<[Segment<T>]>> Field<T> for HomotheticSkeleton<T, S> {
     fn lipschitz(&self) -> Option<T> {
         let iv = Interval::point;
         let mut acc = iv(T::ZERO);
-        for s in self.segments.as_ref() {
+        let mut i = 0;
+        while i < self.segments.count() {
+            let s = self.segments.segment(i);
             acc = acc + iv(self.slope_max) / iv(s.ra().min(s.rb()));
+            i += 1;
         }
         Some((acc * iv(self.scale)).hi())
     }
@@ -387,6 +548,45 @@ mod tests {
 
     fn seg(a: [f64; 3], ra: f64, b: [f64; 3], rb: f64) -> Segment<f64> {
         Segment::new(a, ra, b, rb).unwrap()
+    }
+
+    /// `FieldNum::IS_FORM`: the closed form in intervals (and points) is
+    /// never unbounded, however wide or narrow the query box, so
+    /// [`HomotheticSkeleton::density`] may leave the forms' interval
+    /// fallback out for them.
+    #[test]
+    fn interval_densities_are_bounded() {
+        let segs = vec![
+            seg([-1.0, 0.0, 0.0], 0.3, [0.0, 0.0, 0.0], 0.4),
+            seg([0.0, 0.0, 0.0], 1e-6, [0.0, 1.0, 0.2], 0.2),
+            seg([0.1, 0.9, 0.3], 0.1, [0.1, 0.9, 0.31], 0.5),
+        ];
+        let centers = [
+            [0.0, 0.0, 0.0],
+            [-1.2, 0.0, 0.0],
+            [0.0, 0.5, 0.1],
+            [0.1, 0.9, 0.3],
+            [3.0, -2.0, 1.0],
+        ];
+        let halves = [0.0, 1e-300, 1e-8, 0.05, 0.7, 10.0, 1e30, f64::INFINITY];
+        for k in [
+            SegmentKernel::compact_polynomial(4, 1.6).unwrap(),
+            SegmentKernel::cauchy(3, 1.2).unwrap(),
+        ] {
+            let sk = HomotheticSkeleton::new(segs.clone(), k, 1.0).unwrap();
+            for c in centers {
+                for h in halves {
+                    let b = c.map(|x| Interval::new(x - h, x + h));
+                    let d: Interval<f64> = sk.density(b);
+                    assert!(!d.is_empty() && d.is_bounded(), "{k:?} {c:?} ± {h}: {d:?}");
+                    let p: f64 = sk.density(c);
+                    assert!(
+                        p.is_finite() && d.contains(p),
+                        "{k:?} {c:?} ± {h}: {p} ∉ {d:?}"
+                    );
+                }
+            }
+        }
     }
 
     #[test]
@@ -573,6 +773,67 @@ mod tests {
                     let h = lo + (hi - lo) * f64::from(i) / 100.0;
                     assert!(slope(h) <= b * (1.0 + 1e-6) + 1e-9, "{k:?} h={h}: {b}");
                 }
+            }
+        }
+    }
+
+    /// The skeleton over [`FlatSegments`] with its parameter words (the
+    /// GPU's data) is the skeleton it came from, bit for bit, in every
+    /// number type and in its bounds, for both kernels; a short buffer is
+    /// refused.
+    #[test]
+    fn flat_segments_are_the_same_field() {
+        use boundtrace_ia_core::Affine;
+        use boundtrace_inclusion::ForwardQuadratic;
+        let segs = vec![
+            seg([-1.0, 0.0, 0.0], 0.3, [0.0, 0.0, 0.0], 0.4),
+            seg([0.0, 0.0, 0.0], 0.4, [0.0, 1.0, 0.2], 0.2),
+            seg([0.1, 0.9, 0.3], 0.1, [0.6, 1.2, -0.3], 0.15),
+        ];
+        for k in [
+            SegmentKernel::compact_polynomial(4, 1.6).unwrap(),
+            SegmentKernel::cauchy(3, 1.2).unwrap(),
+        ] {
+            let sk = HomotheticSkeleton::new(segs.clone(), k, 1.0).unwrap();
+            let mut words = sk.segment_words();
+            let n = sk.segment_count();
+            assert_eq!(words.len(), n * SEGMENT_WORDS);
+            assert_eq!(words[SEGMENT_WORDS + 3], segs[1].ra());
+            words.push(99.0); // a word past the last segment, left out
+            assert!(FlatSegments::new(&words, n + 1).is_none());
+            assert!(FlatSegments::new(&words, usize::MAX).is_none());
+            let (code, params) = sk.parameter_words();
+            let flat = HomotheticSkeleton::from_parameter_words_unchecked(
+                FlatSegments::new(&words, n).unwrap(),
+                code,
+                params,
+            );
+            assert_eq!(flat.kernel(), k);
+            assert_eq!(flat.parameter_words(), (code, params));
+            assert_eq!(flat.segment_words(), words[..n * SEGMENT_WORDS]);
+            assert_eq!(flat.lipschitz(), sk.lipschitz());
+            for i in 0..60 {
+                let t = f64::from(i) * 0.05 - 1.5;
+                let x = [0.3 * t + 0.1, t, 0.2 - 0.4 * t];
+                assert_eq!(flat.eval(x).to_bits(), sk.eval(x).to_bits(), "{x:?}");
+                let b = x.map(|c| Interval::new(c - 0.05, c + 0.03));
+                let (fb, sb): (Interval<f64>, Interval<f64>) = (flat.eval(b), sk.eval(b));
+                assert_eq!(
+                    (fb.lo().to_bits(), fb.hi().to_bits()),
+                    (sb.lo().to_bits(), sb.hi().to_bits())
+                );
+                let ray = Ray::new([x[0], x[1], x[2]], [0.2, 1.0, -0.3]);
+                let pa: [Affine<f64, 1>; 3] = ray.at(0.0, 0.2);
+                let (fa, sa): (Affine<f64, 1>, Affine<f64, 1>) = (flat.eval(pa), sk.eval(pa));
+                assert_eq!(fa, sa);
+                let pq: [ForwardQuadratic<f64>; 3] = ray.at(0.0, 0.2);
+                let (fq, sq): (ForwardQuadratic<f64>, ForwardQuadratic<f64>) =
+                    (flat.eval(pq), sk.eval(pq));
+                assert_eq!(fq, sq);
+                assert_eq!(
+                    flat.taylor_linear(&ray, 0.0, 0.2),
+                    sk.taylor_linear(&ray, 0.0, 0.2)
+                );
             }
         }
     }

@@ -52,6 +52,8 @@ pub use scalis::{ScalisLeg, render_scalis_leg, render_scalis_tight_leg};
 
 use boundtrace_fields::AlgebraicPrimitives;
 use boundtrace_fields::blobtree::{BlobtreeRef, BlobtreeWindow};
+use boundtrace_fields::homothetic::SEGMENT_WORDS;
+use boundtrace_fields::homothetic_skeleton::{FlatSegments, HomotheticSkeleton, PARAMETER_WORDS};
 use boundtrace_fields::hrbf::{CENTER_WORDS, FlatCenters, Hrbf};
 use boundtrace_fields::{Blobs, PointBlob};
 use boundtrace_inclusion::{Field, Ray};
@@ -108,6 +110,15 @@ pub enum SceneKind {
     /// sphere and segment tracing report [`Status::Unsupported`] as on
     /// the CPU.
     Hrbf = 4,
+    /// A homothetic-distance skeleton ([`HomotheticSkeleton`] over
+    /// [`FlatSegments`]): the kernel's code `[kind, degree]`
+    /// ([`SegmentKernel::code`](boundtrace_fields::homothetic::SegmentKernel::code))
+    /// in the `u32` buffer; in the `f32` buffer [`Constants::groups`]
+    /// segments of [`SEGMENT_WORDS`] words, then the skeleton's
+    /// [`PARAMETER_WORDS`] parameter words; its global Lipschitz bound in
+    /// [`Constants::lipschitz`] (the CPU scene's, which sphere tracing
+    /// uses).
+    Homothetic = 5,
 }
 
 impl SceneKind {
@@ -119,6 +130,7 @@ impl SceneKind {
             2 => Some(Self::BlobGroups),
             3 => Some(Self::Scalis),
             4 => Some(Self::Hrbf),
+            5 => Some(Self::Homothetic),
             _ => None,
         }
     }
@@ -138,11 +150,13 @@ pub trait SceneKinds {
     const BLOBTREE: bool;
     /// Whether [`SceneKind::Hrbf`] scenes are traced.
     const HRBF: bool;
+    /// Whether [`SceneKind::Homothetic`] scenes are traced.
+    const HOMOTHETIC: bool;
 }
 
 /// Declares unit marker types and their [`SceneKinds`] flags.
 macro_rules! scene_kinds {
-    ($($(#[$doc:meta])* $name:ident = [$blobs:literal, $groups:literal, $blobtree:literal, $hrbf:literal];)*) => {$(
+    ($($(#[$doc:meta])* $name:ident = [$blobs:literal, $groups:literal, $blobtree:literal, $hrbf:literal, $homothetic:literal];)*) => {$(
         $(#[$doc])*
         #[derive(Clone, Copy, Debug, Default)]
         pub struct $name;
@@ -152,27 +166,31 @@ macro_rules! scene_kinds {
             const GROUPS: bool = $groups;
             const BLOBTREE: bool = $blobtree;
             const HRBF: bool = $hrbf;
+            const HOMOTHETIC: bool = $homothetic;
         }
     )*};
 }
 
-// The flags in the order `[BLOBS, GROUPS, BLOBTREE, HRBF]`.
+// The flags in the order `[BLOBS, GROUPS, BLOBTREE, HRBF, HOMOTHETIC]`.
 scene_kinds! {
     /// Every scene kind ([`SceneKinds`]).
-    AllKinds = [true, true, true, true];
+    AllKinds = [true, true, true, true, true];
     /// The blob scenes, [`SceneKind::Blobs`] and [`SceneKind::BlobGroups`]
     /// ([`SceneKinds`]): the shader's `trace_sphere`.
-    BlobKinds = [true, true, false, false];
+    BlobKinds = [true, true, false, false, false];
     /// [`SceneKind::Blobtree`] only ([`SceneKinds`]): the shader's
     /// `trace_sphere_blobtree`.
-    BlobtreeOnly = [false, false, true, false];
+    BlobtreeOnly = [false, false, true, false, false];
     /// [`SceneKind::Blobs`] only ([`SceneKinds`]).
-    BlobsOnly = [true, false, false, false];
+    BlobsOnly = [true, false, false, false, false];
     /// [`SceneKind::BlobGroups`] only ([`SceneKinds`]).
-    GroupsOnly = [false, true, false, false];
-    /// [`SceneKind::Hrbf`] only ([`SceneKinds`]): the shader's
-    /// `trace_linear_taylor_hrbf` and `trace_quadratic_taylor_hrbf`.
-    HrbfOnly = [false, false, false, true];
+    GroupsOnly = [false, true, false, false, false];
+    /// [`SceneKind::Hrbf`] only ([`SceneKinds`]): the shader's `*_hrbf`
+    /// entry points.
+    HrbfOnly = [false, false, false, true, false];
+    /// [`SceneKind::Homothetic`] only ([`SceneKinds`]): the shader's
+    /// `*_homothetic` entry points.
+    HomotheticOnly = [false, false, false, false, true];
 }
 
 /// The frame's constants, as uploaded (plain `u32`/`f32` words, `#[repr(C)]`,
@@ -224,8 +242,9 @@ pub struct Constants {
     pub scene: u32,
     /// The iso-value of the blob scenes.
     pub iso: f32,
-    /// The number of blob groups ([`SceneKind::BlobGroups`]) or HRBF
-    /// centers ([`SceneKind::Hrbf`]); for
+    /// The number of blob groups ([`SceneKind::BlobGroups`]), HRBF
+    /// centers ([`SceneKind::Hrbf`]) or skeleton segments
+    /// ([`SceneKind::Homothetic`]); for
     /// [`SceneKind::Blobtree`] the number of 8 × 8 tiles per image row when
     /// `words` holds one program per tile
     /// ([`BlobtreeWindow::tile`](boundtrace_fields::blobtree::BlobtreeWindow::tile),
@@ -1452,6 +1471,37 @@ fn render_with<P: PixelKernel, K: SceneKinds>(
             }
         }
         Some(SceneKind::Hrbf) => unsupported(),
+        Some(SceneKind::Homothetic) if K::HOMOTHETIC => {
+            // The kernel's code, then (in `floats`) `groups` segments and
+            // the parameters (`SceneKind::Homothetic`), checked without
+            // `Option`s and without overflow.
+            let n = c.groups as usize;
+            if words.len() >= 2
+                && n <= floats.len() / SEGMENT_WORDS
+                && floats.len() - n * SEGMENT_WORDS >= PARAMETER_WORDS
+            {
+                let at = n * SEGMENT_WORDS;
+                let mut params = [0.0f32; PARAMETER_WORDS];
+                let mut k = 0;
+                while k < PARAMETER_WORDS {
+                    params[k] = floats[at + k];
+                    k += 1;
+                }
+                let segments = FlatSegments::new_unchecked(floats, n);
+                let field = GlobalLipschitz {
+                    field: HomotheticSkeleton::from_parameter_words_unchecked(
+                        segments,
+                        [words[0], words[1]],
+                        params,
+                    ),
+                    lipschitz: c.lipschitz,
+                };
+                p.run(&field, &setup, c.max_roots, x, y, roots, hits, base)
+            } else {
+                unsupported()
+            }
+        }
+        Some(SceneKind::Homothetic) => unsupported(),
         // traced by `render_scalis_leg` alone
         Some(SceneKind::Scalis) => unsupported(),
         None => unsupported(),
@@ -2316,6 +2366,181 @@ mod tests {
             }
         }
         assert!(hit_pixels >= 16, "{hit_pixels}");
+    }
+
+    /// [`homothetic_case`]'s scene field, bounds, words, floats and bound.
+    type HomotheticCase = (
+        boundtrace_tracer::scenes::SceneField<f32>,
+        [[f32; 3]; 2],
+        Vec<u32>,
+        Vec<f32>,
+        f32,
+    );
+
+    /// A homothetic-distance skeleton with `kernel` as the CPU scene
+    /// (`WithLipschitz` with the skeleton's own bound, as scene files
+    /// build it), its GPU words and floats ([`SceneKind::Homothetic`]) and
+    /// the bound.
+    fn homothetic_case(
+        kernel: boundtrace_fields::homothetic::SegmentKernel<f32>,
+    ) -> HomotheticCase {
+        use boundtrace_fields::homothetic::Segment;
+        use boundtrace_tracer::scenes::{SceneField, WithLipschitz};
+        let v: [([f32; 3], f32); 4] = [
+            ([0.0, -0.8, 0.0], 0.4),
+            ([0.0, 0.0, 0.0], 0.3),
+            ([-0.5, 0.45, 0.1], 0.15),
+            ([0.45, 0.5, -0.1], 0.2),
+        ];
+        let segments: Vec<Segment<f32>> = [(0, 1), (1, 2), (1, 3)]
+            .iter()
+            .map(|&(i, j)| Segment::new(v[i].0, v[i].1, v[j].0, v[j].1).unwrap())
+            .collect();
+        let sk = HomotheticSkeleton::new(segments, kernel, 1.0).unwrap();
+        let (code, params) = sk.parameter_words();
+        let mut floats = sk.segment_words();
+        floats.extend_from_slice(&params);
+        let l = sk.lipschitz().unwrap();
+        // (the box of the supports would frame a compact kernel's
+        // skeleton; this one frames the surface, for more hits)
+        let bounds = [[-1.0, -1.4, -0.7], [1.0, 1.0, 0.7]];
+        let field = SceneField::Homothetic(WithLipschitz::new(sk, l));
+        (field, bounds, code.to_vec(), floats, l)
+    }
+
+    /// [`SceneKind::Homothetic`], compact and Cauchy kernels: the sphere,
+    /// segment, `linear-taylor` and forward bottom-up legs, and the mixed
+    /// legs alternated with their Taylor fills, trace the skeleton over
+    /// the flat words as the CPU traces the scene's field (steps, status,
+    /// roots bit for bit), in both modes; `quadratic-taylor` is
+    /// unsupported on both (no quadratic Taylor bound); other kinds'
+    /// kernels, short buffers and a missing kernel code give unsupported
+    /// pixels.
+    #[test]
+    fn homothetic_legs_trace_as_on_the_cpu() {
+        use boundtrace_fields::homothetic::SegmentKernel;
+        let unsupported = |o: PixelOut| o.status == Status::Unsupported as u32;
+        let legs: [(Method, LegFn, LegFn); 5] = [
+            (
+                Method::Sphere,
+                &render_sphere_leg_in::<HomotheticOnly>,
+                &render_sphere_leg_in::<BlobKinds>,
+            ),
+            (
+                Method::Segment,
+                &render_segment_leg_in::<HomotheticOnly>,
+                &render_segment_leg_in::<HrbfOnly>,
+            ),
+            (
+                Method::LinearTaylor,
+                &render_linear_taylor_leg_in::<HomotheticOnly>,
+                &render_linear_taylor_leg_in::<BlobsOnly>,
+            ),
+            (
+                Method::LinearBottomUp,
+                &render_linear_bottom_up_leg_in::<HomotheticOnly>,
+                &render_linear_bottom_up_leg_in::<HrbfOnly>,
+            ),
+            (
+                Method::QuadraticBottomUp,
+                &render_quadratic_bottom_up_leg_in::<HomotheticOnly>,
+                &render_quadratic_bottom_up_leg_in::<BlobtreeOnly>,
+            ),
+        ];
+        let mixed: [(Method, MixedFn, FillFn); 2] = [
+            (
+                Method::LinearMixed,
+                render_linear_mixed_leg_in::<HomotheticOnly>,
+                fill_linear_taylor_in::<HomotheticOnly>,
+            ),
+            (
+                Method::QuadraticMixed,
+                render_quadratic_mixed_leg_in::<HomotheticOnly>,
+                fill_quadratic_taylor_in::<HomotheticOnly>,
+            ),
+        ];
+        for kernel in [
+            SegmentKernel::compact_polynomial(4, 1.6).unwrap(),
+            SegmentKernel::cauchy(3, 1.2).unwrap(),
+        ] {
+            let (field, bounds, words, floats, l) = homothetic_case(kernel);
+            let n = (floats.len() - PARAMETER_WORDS) / SEGMENT_WORDS;
+            let constants = |setup: &PixelSetup<f32>| Constants {
+                lipschitz: l,
+                ..Constants::new(setup, SceneKind::Homothetic, 0.0, 4, n as u32)
+            };
+            let data = (&words[..], &floats[..], &[][..]);
+            let mut hit_pixels = 0;
+            for &(method, leg, other) in &legs {
+                for mode in [Mode::Opaque, Mode::Transparent] {
+                    let setup = six_by_six(bounds, method, mode);
+                    let c = constants(&setup);
+                    for y in 0..6 {
+                        for x in 0..6 {
+                            let at = format!("{kernel:?} {method} {mode:?} ({x}, {y})");
+                            let hit = leg_is_the_cpus(leg, &c, data, &field, &setup, x, y, &at);
+                            hit_pixels += usize::from(hit);
+                            let run = |f: LegFn, c: &Constants, w: &[u32], fl: &[f32]| {
+                                one_leg(f, c, (w, fl, &[]), x, y).0
+                            };
+                            assert!(unsupported(run(other, &c, &words, &floats)), "{at}");
+                            // the last parameter word missing
+                            let short = &floats[..floats.len() - 1];
+                            assert!(unsupported(run(leg, &c, &words, short)), "{at}");
+                            // no kernel code
+                            assert!(unsupported(run(leg, &c, &words[..1], &floats)), "{at}");
+                            let more = Constants {
+                                groups: n as u32 + 1,
+                                ..c
+                            };
+                            assert!(unsupported(run(leg, &more, &words, &floats)), "{at}");
+                            let huge = Constants {
+                                groups: u32::MAX,
+                                ..c
+                            };
+                            assert!(unsupported(run(leg, &huge, &words, &floats)), "{at}");
+                        }
+                    }
+                }
+            }
+            eprintln!("{kernel:?}: {hit_pixels} hits");
+            assert!(hit_pixels >= 5 * 2 * 4, "{kernel:?}: {hit_pixels}");
+            for (method, render, fill) in mixed {
+                for mode in [Mode::Opaque, Mode::Transparent] {
+                    let setup = six_by_six(bounds, method, mode);
+                    let c = constants(&setup);
+                    for y in 0..6 {
+                        for x in 0..6 {
+                            let (gpu, hs, _) = mixed_until_done(render, fill, &c, data, x, y);
+                            let mut rc = [Root {
+                                t: 0.0,
+                                side: Side::Touch,
+                            }; 4];
+                            let cpu = trace_pixel_in(&field, &setup, x, y, &mut rc, [0, 4]);
+                            let at = format!("{kernel:?} {method} {mode:?} ({x}, {y})");
+                            assert_eq!(gpu.steps, cpu.trace.stats.steps, "{at}");
+                            assert_eq!(gpu.status, cpu.trace.status as u32, "{at}");
+                            assert_eq!(gpu.roots, cpu.trace.roots, "{at}");
+                            for k in 0..gpu.roots as usize {
+                                assert_eq!(hs[k].t.to_bits(), rc[k].t.to_bits(), "{at}");
+                            }
+                        }
+                    }
+                }
+            }
+            // No quadratic Taylor bound: unsupported on the CPU and here.
+            let setup = six_by_six(bounds, Method::QuadraticTaylor, Mode::Opaque);
+            let c = constants(&setup);
+            let mut rc = [Root {
+                t: 0.0,
+                side: Side::Touch,
+            }; 4];
+            let cpu = trace_pixel_in(&field, &setup, 3, 3, &mut rc, [0, 4]);
+            let kernel_fn: LegFn = &render_quadratic_taylor_leg_in::<HomotheticOnly>;
+            let (gpu, _) = one_leg(kernel_fn, &c, data, 3, 3);
+            assert_eq!(gpu.status, cpu.trace.status as u32);
+            assert!(unsupported(gpu));
+        }
     }
 
     /// The blobtree's segment-tracing (bottom-up lines) and forward

@@ -32,6 +32,11 @@
 //!   (segment tracing with the CPU's bound, from bottom-up lines; the
 //!   forward bottom-up and mixed methods), features `segment-hrbf`, …, a
 //!   module each;
+//! - `trace_{sphere,segment,linear_taylor}_homothetic`: the
+//!   homothetic-distance skeletons of scene files, features
+//!   `sphere-homothetic`, `segment-homothetic` and
+//!   `linear-taylor-homothetic`, a module each (no bottom-up or mixed
+//!   module: lavapipe cannot compile their pipelines in 24 GB);
 //! - `trace_scalis` and `trace_scalis_tight` (its intervals' tight
 //!   stages, a pipeline of its own): `scalis-quadratic` and the
 //!   per-primitive `interval` bisection on SCALIS skeletons
@@ -382,6 +387,32 @@ leg_entry_point!(
     kernel::render_quadratic_bottom_up_leg_in::<kernel::HrbfOnly>
 );
 
+leg_entry_point!(
+    /// Sphere tracing of `SceneKind::Homothetic` skeletons with the scene's
+    /// global Lipschitz bound (`render_sphere_leg_in::<HomotheticOnly>`),
+    /// feature `sphere-homothetic`.
+    "sphere-homothetic",
+    trace_sphere_homothetic,
+    kernel::render_sphere_leg_in::<kernel::HomotheticOnly>
+);
+
+leg_entry_point!(
+    /// Segment tracing of `SceneKind::Homothetic` skeletons with their
+    /// directional Lipschitz lines (`render_segment_leg_in::<HomotheticOnly>`),
+    /// feature `segment-homothetic`.
+    "segment-homothetic",
+    trace_segment_homothetic,
+    kernel::render_segment_leg_in::<kernel::HomotheticOnly>
+);
+
+leg_entry_point!(
+    /// `linear-taylor` on `SceneKind::Homothetic` skeletons (the directional
+    /// Lipschitz lines), feature `linear-taylor-homothetic`.
+    "linear-taylor-homothetic",
+    trace_linear_taylor_homothetic,
+    kernel::render_linear_taylor_leg_in::<kernel::HomotheticOnly>
+);
+
 /// The two entry points of a mixed-bounds module: `$trace`, one leg of
 /// each pixel with `$render` (the bottom-up side; the Taylor side read from
 /// the pixel's cache), and `$fill`, dispatched after it, the Taylor side of
@@ -550,7 +581,10 @@ leg_entry_point!(
     feature = "quadratic-bottom-up-groups",
     feature = "segment-hrbf",
     feature = "linear-bottom-up-hrbf",
-    feature = "quadratic-bottom-up-hrbf"
+    feature = "quadratic-bottom-up-hrbf",
+    feature = "sphere-homothetic",
+    feature = "segment-homothetic",
+    feature = "linear-taylor-homothetic"
 ))]
 #[allow(clippy::too_many_arguments)]
 fn leg_entry<R>(

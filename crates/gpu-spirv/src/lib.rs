@@ -45,6 +45,10 @@
 //! bottom-up lines:
 //! [`trace_segment_lines_resume_in`](boundtrace_tracer::trace_segment_lines_resume_in))
 //! and `trace_{linear,quadratic}_{bottom_up,mixed}_hrbf` (session 34),
+//! and for the homothetic-distance skeletons of scene files
+//! `trace_{sphere,segment,linear_taylor}_homothetic` (session 35; no
+//! quadratic Taylor bound, as on the CPU, and no bottom-up or mixed
+//! module: lavapipe cannot compile those pipelines in 24 GB),
 //! entry points ([`leg_spirv_path`]) trace
 //! each pixel in resumable legs
 //! ([`boundtrace_gpu_kernel::render_sphere_leg_in`],
@@ -194,7 +198,7 @@ const SPHERE_ENTRY: &str = "trace_sphere";
 /// file name and its entry point (`segment-blobs`: feature
 /// `segment-blobs`, `…-segment-blobs.spv`, `trace_segment_blobs`); see
 /// [`leg_spirv_path`].
-const LEG_MODULE_LIST: [(Method, SceneKind, &str); 22] = [
+const LEG_MODULE_LIST: [(Method, SceneKind, &str); 25] = [
     (Method::Segment, SceneKind::Blobs, "segment-blobs"),
     (Method::Segment, SceneKind::BlobGroups, "segment-groups"),
     (
@@ -274,6 +278,17 @@ const LEG_MODULE_LIST: [(Method, SceneKind, &str); 22] = [
         Method::QuadraticMixed,
         SceneKind::Hrbf,
         "quadratic-mixed-hrbf",
+    ),
+    // The homothetic-distance skeletons of scene files: a global and a
+    // directional Lipschitz bound, no quadratic Taylor bound. No bottom-up
+    // or mixed module: lavapipe could not compile their pipelines in
+    // 24 GB (BENCHMARKS.md "GPU", session 35).
+    (Method::Sphere, SceneKind::Homothetic, "sphere-homothetic"),
+    (Method::Segment, SceneKind::Homothetic, "segment-homothetic"),
+    (
+        Method::LinearTaylor,
+        SceneKind::Homothetic,
+        "linear-taylor-homothetic",
     ),
     // One module and entry point (`trace_scalis`) for both methods of the
     // pre-segmented SCALIS processing.
@@ -477,7 +492,12 @@ impl GpuScene {
     /// the CPU's bottom-up bound and the bottom-up and mixed methods in the
     /// `*-hrbf` modules; an HRBF has no global Lipschitz or Taylor
     /// bound, so sphere tracing and the Taylor methods are unsupported on it,
-    /// as on the CPU).
+    /// as on the CPU). Homothetic-distance skeletons (scene files) have
+    /// GPU data too: the segments, the kernel and the scene's Lipschitz
+    /// bound, for `sphere`, `segment` and `linear-taylor` in the
+    /// `*-homothetic` modules (no quadratic Taylor bound, as on the CPU;
+    /// the bottom-up and mixed methods have no module: lavapipe cannot
+    /// compile their pipelines in 24 GB).
     ///
     /// A `molecule` field call loops over 500 atoms: lavapipe's llvmpipe
     /// allows 65,535 loop iterations per 8 pixels and dispatch, so its
@@ -490,10 +510,10 @@ impl GpuScene {
     /// to 72 field calls); BENCHMARKS.md "GPU", sessions 16, 17 and 21.
     ///
     /// # Errors
-    /// [`GpuError::UnsupportedScene`] for the other scenes: the
-    /// homothetic scenes (no flat field yet), SCALIS skeletons with an
-    /// infinite support (Cauchy kernels: no primitive lists), and blobtrees
-    /// with gyroid or blob primitives.
+    /// [`GpuError::UnsupportedScene`] for the other scenes: SCALIS
+    /// skeletons with an infinite support (Cauchy kernels: no primitive
+    /// lists), blobtrees with gyroid or blob primitives, and a scene whose
+    /// global Lipschitz bound is not a positive number.
     pub fn from_scene(scene: &Scene<f32>) -> Result<Self, GpuError> {
         let bounds = scene.bounds();
         let unsupported = |why: &str| {
@@ -584,8 +604,23 @@ impl GpuScene {
                 s.iso = sk.iso();
                 s.segments = sk.segments().to_vec();
             }
-            SceneField::Homothetic(_) => {
-                return unsupported("homothetic skeletons have no flat GPU field yet");
+            SceneField::Homothetic(w) => {
+                // `SceneKind::Homothetic`'s layout: the kernel's code, the
+                // segments' words then the parameters; `groups` segments;
+                // the scene's global Lipschitz bound (the CPU's
+                // `WithLipschitz`), which the kernel uses only when `> 0`.
+                let l = w.bound();
+                if l.is_nan() || l <= 0.0 {
+                    return unsupported("its Lipschitz bound is not a positive number");
+                }
+                let sk = w.field();
+                let (code, params) = sk.parameter_words();
+                s.kind = SceneKind::Homothetic;
+                s.words = code.to_vec();
+                s.floats = sk.segment_words();
+                s.floats.extend_from_slice(&params);
+                s.groups = sk.segment_count() as u32;
+                s.lipschitz = l;
             }
         }
         Ok(s)
@@ -2321,7 +2356,9 @@ fn status_of(code: u32) -> Result<Status, GpuError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use boundtrace_tracer::scenes::DEFAULT_SEED;
+    use boundtrace_fields::homothetic::{KERNEL_COMPACT, SEGMENT_WORDS, Segment, SegmentKernel};
+    use boundtrace_fields::homothetic_skeleton::{HomotheticSkeleton, PARAMETER_WORDS};
+    use boundtrace_tracer::scenes::{DEFAULT_SEED, WithLipschitz};
     use core::mem::size_of;
 
     std::thread_local! {
@@ -2618,6 +2655,39 @@ mod tests {
         // no module: sphere tracing and the Taylor methods need bounds an
         // HRBF lacks (unsupported on the CPU too)
         assert_eq!(leg_slot(Method::LinearTaylor, SceneKind::Hrbf), None);
+        // a homothetic skeleton: the kernel's code; the segments' words,
+        // then the parameters; the scene's Lipschitz bound
+        let segs = vec![
+            Segment::new([0.0; 3], 0.3, [1.0, 0.0, 0.0], 0.2).unwrap(),
+            Segment::new([1.0, 0.0, 0.0], 0.2, [1.0, 1.0, 0.0], 0.1).unwrap(),
+        ];
+        let kernel = SegmentKernel::compact_polynomial(4, 1.6).unwrap();
+        let sk = HomotheticSkeleton::new(segs, kernel, 1.0).unwrap();
+        let field = SceneField::Homothetic(WithLipschitz::new(sk.clone(), 7.5));
+        let box_ = [[-1.0; 3], [2.0; 3]];
+        let scene = Scene::from_parts("h", String::new(), box_, [0.0; 3], field, 2).unwrap();
+        let g = GpuScene::from_scene(&scene).unwrap();
+        assert_eq!(g.kind(), SceneKind::Homothetic);
+        assert_eq!((g.groups, g.lipschitz), (2, 7.5));
+        assert_eq!(g.words, [KERNEL_COMPACT, 4]);
+        assert_eq!(g.floats.len(), 2 * SEGMENT_WORDS + PARAMETER_WORDS);
+        assert_eq!(g.floats[SEGMENT_WORDS + 3], 0.2);
+        assert_eq!(g.floats[2 * SEGMENT_WORDS..], sk.parameter_words().1);
+        assert_eq!(
+            leg_slot(Method::QuadraticTaylor, SceneKind::Homothetic),
+            None
+        );
+        assert_eq!(leg_slot(Method::Interval, SceneKind::Homothetic), None);
+        assert_eq!(
+            leg_slot(Method::LinearBottomUp, SceneKind::Homothetic),
+            None
+        );
+        assert!(leg_slot(Method::LinearTaylor, SceneKind::Homothetic).is_some());
+        // a bound that is not a positive number is refused
+        let field = SceneField::Homothetic(WithLipschitz::new(sk, f32::NAN));
+        let scene = Scene::from_parts("h", String::new(), box_, [0.0; 3], field, 2).unwrap();
+        let e = GpuScene::from_scene(&scene).unwrap_err().to_string();
+        assert!(e.contains("Lipschitz"), "{e}");
     }
 
     #[test]
@@ -2976,7 +3046,9 @@ mod tests {
             let bytes = std::fs::read(&path).unwrap();
             let found = module_layouts(&le_words(&bytes));
             for (b, want) in host_layouts_of(legs) {
-                let optional = b == 1 || b == 2 || (b == 3 && kind == SceneKind::Hrbf);
+                let optional = b == 1
+                    || b == 2
+                    || (b == 3 && matches!(kind, SceneKind::Hrbf | SceneKind::Homothetic));
                 if optional && !found.iter().any(|&(fb, _)| fb == b) {
                     continue;
                 }

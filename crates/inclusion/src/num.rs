@@ -43,6 +43,15 @@ pub trait FieldNum<T: Real>:
     + Mul<T, Output = Self>
     + Div<T, Output = Self>
 {
+    /// Whether `Self` is a *form* (affine, forward linear or quadratic):
+    /// a number whose range can be unbounded where the interval evaluation
+    /// of the same expression is bounded (e.g. after a division by an
+    /// enclosure of a small positive quantity), so that a field may replace
+    /// such a result by an interval enclosure. `false` (the default) for
+    /// points, jets and intervals: a field can then leave that fallback out
+    /// at compile time (a GPU driver inlines every call, so code that can
+    /// never run still costs memory: BENCHMARKS.md "GPU", session 35).
+    const IS_FORM: bool = false;
     /// The constant `c`.
     fn constant(c: T) -> Self;
     /// The ray parameter `t` on `[t0, t1]`: the point `t0` for `T` (and
@@ -137,8 +146,9 @@ float_num!(f32, f64);
 
 /// Forwards the trait to inherent methods of the same names.
 macro_rules! forward_num {
-    ($ty:ty, [$($gen:tt)*], $ray:expr, $encl:expr, $join:expr) => {
+    ($ty:ty, [$($gen:tt)*], $form:expr, $ray:expr, $encl:expr, $join:expr) => {
         impl<$($gen)*> FieldNum<T> for $ty {
+            const IS_FORM: bool = $form;
             #[cfg_attr(not(target_arch = "spirv"), inline)]
             fn constant(c: T) -> Self { <$ty>::constant(c) }
             #[cfg_attr(not(target_arch = "spirv"), inline)]
@@ -178,6 +188,7 @@ macro_rules! forward_num {
 forward_num!(
     Jet<T>,
     [T: Real],
+    false,
     |t0, _t1| Jet::variable(t0),
     |j: &Jet<T>| Interval::point(j.v),
     |a, _b| a
@@ -185,6 +196,7 @@ forward_num!(
 forward_num!(
     ForwardLinear<T>,
     [T: Real],
+    true,
     ForwardLinear::ray_param,
     ForwardLinear::range,
     ForwardLinear::join
@@ -192,6 +204,7 @@ forward_num!(
 forward_num!(
     ForwardQuadratic<T>,
     [T: Real],
+    true,
     ForwardQuadratic::ray_param,
     ForwardQuadratic::range,
     ForwardQuadratic::join
@@ -269,6 +282,7 @@ impl<T: Real> FieldNum<T> for Interval<T> {
 /// interval (`Interval::pow` of the form's range, which forgets the
 /// correlation but stays sound).
 impl<T: Real, const N: usize> FieldNum<T> for Affine<T, N> {
+    const IS_FORM: bool = true;
     #[cfg_attr(not(target_arch = "spirv"), inline)]
     fn constant(c: T) -> Self {
         Affine::constant(c)
