@@ -545,6 +545,7 @@ impl<T: Real, S: HomotheticSegments<T>> Field<T> for HomotheticSkeleton<T, S> {
 mod tests {
     use super::*;
     use crate::homothetic::HomotheticPrimitive;
+    use alloc::vec;
 
     fn seg(a: [f64; 3], ra: f64, b: [f64; 3], rb: f64) -> Segment<f64> {
         Segment::new(a, ra, b, rb).unwrap()
