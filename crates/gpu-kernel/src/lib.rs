@@ -52,7 +52,7 @@ pub use scalis::{ScalisLeg, render_scalis_leg, render_scalis_tight_leg};
 
 use boundtrace_fields::AlgebraicPrimitives;
 use boundtrace_fields::blobtree::{BlobtreeRef, BlobtreeWindow};
-use boundtrace_fields::homothetic::SEGMENT_WORDS;
+use boundtrace_fields::homothetic::{KERNEL_CAUCHY, KERNEL_COMPACT, SEGMENT_WORDS};
 use boundtrace_fields::homothetic_skeleton::{FlatSegments, HomotheticSkeleton, PARAMETER_WORDS};
 use boundtrace_fields::hrbf::{CENTER_WORDS, FlatCenters, Hrbf};
 use boundtrace_fields::{Blobs, PointBlob};
@@ -113,8 +113,9 @@ pub enum SceneKind {
     /// A homothetic-distance skeleton ([`HomotheticSkeleton`] over
     /// [`FlatSegments`]): the kernel's code `[kind, degree]`
     /// ([`SegmentKernel::code`](boundtrace_fields::homothetic::SegmentKernel::code))
-    /// in the `u32` buffer; in the `f32` buffer [`Constants::groups`]
-    /// segments of [`SEGMENT_WORDS`] words, then the skeleton's
+    /// in the `u32` buffer (a kind other than [`KERNEL_COMPACT`] and
+    /// [`KERNEL_CAUCHY`] gives unsupported pixels); in the `f32` buffer
+    /// [`Constants::groups`] segments of [`SEGMENT_WORDS`] words, then the skeleton's
     /// [`PARAMETER_WORDS`] parameter words; its global Lipschitz bound in
     /// [`Constants::lipschitz`] (the CPU scene's, which sphere tracing
     /// uses).
@@ -1477,6 +1478,7 @@ fn render_with<P: PixelKernel, K: SceneKinds>(
             // `Option`s and without overflow.
             let n = c.groups as usize;
             if words.len() >= 2
+                && (words[0] == KERNEL_COMPACT || words[0] == KERNEL_CAUCHY)
                 && n <= floats.len() / SEGMENT_WORDS
                 && floats.len() - n * SEGMENT_WORDS >= PARAMETER_WORDS
             {
@@ -2414,7 +2416,7 @@ mod tests {
     /// the flat words as the CPU traces the scene's field (steps, status,
     /// roots bit for bit), in both modes; `quadratic-taylor` is
     /// unsupported on both (no quadratic Taylor bound); other kinds'
-    /// kernels, short buffers and a missing kernel code give unsupported
+    /// kernels, short buffers and a missing or unknown kernel code give unsupported
     /// pixels.
     #[test]
     fn homothetic_legs_trace_as_on_the_cpu() {
@@ -2487,8 +2489,10 @@ mod tests {
                             // the last parameter word missing
                             let short = &floats[..floats.len() - 1];
                             assert!(unsupported(run(leg, &c, &words, short)), "{at}");
-                            // no kernel code
+                            // no kernel code, or an unknown one
                             assert!(unsupported(run(leg, &c, &words[..1], &floats)), "{at}");
+                            let unknown = [KERNEL_CAUCHY + 1, words[1]];
+                            assert!(unsupported(run(leg, &c, &unknown, &floats)), "{at}");
                             let more = Constants {
                                 groups: n as u32 + 1,
                                 ..c
