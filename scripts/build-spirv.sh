@@ -25,7 +25,9 @@
 #     …-quadratic-mixed-hrbf.spv          (`Hrbf` scenes: segment tracing with bottom-up
 #                                         lines, the forward bottom-up and mixed methods)
 #     …-sphere-homothetic.spv, …-segment-homothetic.spv,
-#     …-linear-taylor-homothetic.spv      (`Homothetic` skeletons of scene files)
+#     …-linear-taylor-homothetic.spv, …-linear-bottom-up-homothetic.spv,
+#     …-quadratic-bottom-up-homothetic.spv, …-linear-mixed-homothetic.spv,
+#     …-quadratic-mixed-homothetic.spv    (`Homothetic` skeletons of scene files)
 #
 # The bottom-up, mixed, SCALIS, HRBF and homothetic modules are written as rust-gpu links them,
 # without spirv-opt (seconds instead of minutes, and a few GB instead of
@@ -117,10 +119,8 @@ if [ -z "${BOUNDTRACE_SHADER_FEATURES:-}" ]; then
         module "$method-hrbf" "${out%.spv}-$method-hrbf.spv" no-opt
     done
     # The homothetic-distance skeletons of scene files (global and
-    # directional Lipschitz bounds, no quadratic Taylor bound), likewise;
-    # no bottom-up or mixed module (lavapipe cannot compile their
-    # pipelines in 24 GB: BENCHMARKS.md "GPU", session 35).
-    for method in sphere segment linear-taylor; do
+    # directional Lipschitz bounds, no quadratic Taylor bound), likewise.
+    for method in sphere segment linear-taylor linear-bottom-up quadratic-bottom-up linear-mixed quadratic-mixed; do
         echo "==> compiling the $method module for homothetic skeletons (no spirv-opt)"
         module "$method-homothetic" "${out%.spv}-$method-homothetic.spv" no-opt
     done

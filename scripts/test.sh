@@ -19,8 +19,8 @@ scripts/nightly.sh >/dev/null
 
 # The GPU preparation (lavapipe when no Vulkan driver, and the SPIR-V
 # modules: nine with spirv-opt, ~40 min cold on 2 cores, one core at a time, with peaks
-# of 14-18 GB, and fourteen in seconds without it: bottom-up, mixed, SCALIS,
-# HRBF) runs in the background from here, while the CPU-only steps
+# of 14-18 GB, and twenty-one in seconds without it: bottom-up, mixed, SCALIS,
+# HRBF, homothetic) runs in the background from here, while the CPU-only steps
 # below run beside it on one cargo job (so that the two fit in memory).
 # The GPU tests wait until the last module is built: beside a module build
 # even the sphere difftest left too little of this machine's 24 GB (a
@@ -98,9 +98,10 @@ if [ -z "${XDG_RUNTIME_DIR:-}" ]; then
 fi
 
 # The GPU tests (they fail, never skip, with CI=true), once the modules
-# are built: the difftests in groups, one process each (a tracer's
-# pipelines take several GB on lavapipe), then every test of the crate not
-# run before (so a new test cannot be left out).
+# are built: the difftests and the CLI's GPU test, one process each (a
+# tracer's pipelines take several GB on lavapipe), two at a time, then
+# every test of the crate not run before (so a new test cannot be left
+# out).
 step "GPU tests: building them while the SPIR-V modules build"
 cargo test -p boundtrace-gpu --no-run
 cargo test -p boundtrace-cli --features gpu --test cli --no-run
@@ -115,72 +116,65 @@ cat "$gpu_log"
 rm -f "$gpu_log"
 
 done_tests=()
-# `gpu_tests TESTS…`: runs the difftests named (exactly).
-gpu_tests() {
-    step "GPU difftests $*"
-    local out
-    out=$(mktemp "${TMPDIR:-/tmp}/boundtrace-gpu-tests.XXXXXX")
-    cargo test -p boundtrace-gpu --test difftest -- --exact "$@" 2>&1 | tee "$out"
-    # A name that matches no test would pass silently.
-    if ! grep -q "test result: ok. $# passed" "$out"; then
-        echo "expected $# difftests to pass: $*" >&2
-        exit 1
-    fi
-    rm -f "$out"
-    done_tests+=("$@")
+# `gpu_queue ITEM…`: runs the items two at a time, in the order given (the
+# longest first), each the moment a core is free; an item is a difftest's
+# exact name, or `cli` for the CLI's GPU test. lavapipe compiles a
+# pipeline on one core, for minutes and several GB (BENCHMARKS.md "GPU",
+# sessions 13, 28 and 36), so two processes use both cores; any two of
+# these peaked below 18 GB together (session 36). Each item must report
+# its tests passed (a name that matches no test would pass silently).
+gpu_queue() {
+    local outs=() item out failed=0
+    for item in "$@"; do
+        while [ "$(jobs -rp | wc -l)" -ge 2 ]; do
+            wait -n || true
+        done
+        out=$(mktemp "${TMPDIR:-/tmp}/boundtrace-gpu-tests.XXXXXX")
+        outs+=("$item=$out")
+        step "GPU test $item (two at a time)"
+        if [ "$item" = cli ]; then
+            cargo test -p boundtrace-cli --features gpu --test cli gpu_backend >"$out" 2>&1 &
+        else
+            cargo test -p boundtrace-gpu --test difftest -- --exact "$item" >"$out" 2>&1 &
+        fi
+    done
+    wait
+    for entry in "${outs[@]}"; do
+        item=${entry%%=*}
+        out=${entry#*=}
+        printf '\n--- %s\n' "$item"
+        cat "$out"
+        if ! grep -q "test result: ok. [1-9][0-9]* passed; 0 failed" "$out"; then
+            echo "GPU test $item did not pass" >&2
+            failed=1
+        fi
+        rm -f "$out"
+        if [ "$item" != cli ]; then done_tests+=("$item"); fi
+    done
+    if [ "$failed" != 0 ]; then exit 1; fi
 }
-gpu_tests sphere_matches_the_cpu_in_both_modes
-gpu_tests segment_matches_the_cpu_in_both_modes
-gpu_tests sphere_matches_the_cpu_on_blobtrees_whole_and_tiled
-gpu_tests linear_taylor_matches_the_cpu_in_both_modes
-gpu_tests quadratic_taylor_matches_the_cpu_in_both_modes
-# `gpu_tests_beside A B`: difftests A and B in two processes at once. The
-# bottom-up modules come without spirv-opt, so lavapipe spends
-# minutes inlining and compiling each pipeline, on one core (its memory:
-# BENCHMARKS.md "GPU", session 28); two processes use both cores.
-gpu_tests_beside() {
-    step "GPU difftests $1 and $2, side by side"
-    local out1 out2 pid1 pid2
-    out1=$(mktemp "${TMPDIR:-/tmp}/boundtrace-gpu-tests.XXXXXX")
-    out2=$(mktemp "${TMPDIR:-/tmp}/boundtrace-gpu-tests.XXXXXX")
-    cargo test -p boundtrace-gpu --test difftest -- --exact "$1" >"$out1" 2>&1 &
-    pid1=$!
-    cargo test -p boundtrace-gpu --test difftest -- --exact "$2" >"$out2" 2>&1 &
-    pid2=$!
-    wait "$pid1" || true
-    wait "$pid2" || true
-    cat "$out1" "$out2"
-    # Each must report its one test passed (a name that matches no test
-    # would pass silently).
-    if ! grep -q "test result: ok. 1 passed" "$out1" || ! grep -q "test result: ok. 1 passed" "$out2"; then
-        echo "expected difftests $1 and $2 to pass" >&2
-        exit 1
-    fi
-    rm -f "$out1" "$out2"
-    done_tests+=("$1" "$2")
-}
-gpu_tests_beside linear_bottom_up_matches_the_cpu_in_both_modes quadratic_bottom_up_matches_the_cpu_in_both_modes
-# The mixed methods likewise: two pipelines per module (the bottom-up and
-# the Taylor side), 7.5 and 9.6 GB peak, about 8 min each (BENCHMARKS.md
-# "GPU", session 32).
-gpu_tests_beside linear_mixed_matches_the_cpu_in_both_modes quadratic_mixed_matches_the_cpu_in_both_modes
-# `scalis-quadratic` and the per-primitive `interval` on the SCALIS
-# skeletons (the `scalis` module's two pipelines, shared by both methods:
-# about 4.5 min and 8.6 GB on lavapipe).
-gpu_tests scalis_methods_match_the_cpu_in_both_modes
-# Segment tracing, the bottom-up and the mixed methods on the HRBF scenes
-# (the five `*-hrbf` modules: 35-70 s per pipeline on lavapipe), beside
-# the three methods of a homothetic-distance skeleton (the `*-homothetic`
-# modules: 35-145 s per pipeline).
-gpu_tests_beside hrbf_methods_match_the_cpu_in_both_modes homothetic_methods_match_the_cpu_in_both_modes
+step "GPU difftests and the CLI's GPU test, two at a time"
+gpu_queue \
+    quadratic_mixed_matches_the_cpu_in_both_modes \
+    linear_mixed_matches_the_cpu_in_both_modes \
+    homothetic_methods_match_the_cpu_in_both_modes \
+    homothetic_bottom_up_and_mixed_match_the_cpu_in_both_modes \
+    quadratic_bottom_up_matches_the_cpu_in_both_modes \
+    scalis_methods_match_the_cpu_in_both_modes \
+    linear_bottom_up_matches_the_cpu_in_both_modes \
+    sphere_matches_the_cpu_on_blobtrees_whole_and_tiled \
+    sphere_matches_the_cpu_in_both_modes \
+    homothetic_quadratic_mixed_matches_the_cpu_in_both_modes \
+    segment_matches_the_cpu_in_both_modes \
+    quadratic_taylor_matches_the_cpu_in_both_modes \
+    cli \
+    hrbf_methods_match_the_cpu_in_both_modes \
+    linear_taylor_matches_the_cpu_in_both_modes
 
 step "cargo test -p boundtrace-gpu: every other test (unit tests, probes, the rest of the difftests)"
 skips=()
 for t in "${done_tests[@]}"; do skips+=(--skip "$t"); done
 cargo test -p boundtrace-gpu -- --exact "${skips[@]}"
-
-step "boundtrace render --backend gpu (sphere tracing on the GPU; fails, never skips, with CI=true)"
-cargo test -p boundtrace-cli --features gpu --test cli gpu_backend
 
 step "ITF1788 conformance report"
 report=$(find "${CARGO_TARGET_DIR:-target}" -name itf1788-report.txt -path '*tmp*' 2>/dev/null | head -n 1)

@@ -237,7 +237,23 @@ impl<T: Real> Segment<T> {
         let c0 = w[1] * self.u[2] - w[2] * self.u[1];
         let c1 = w[2] * self.u[0] - w[0] * self.u[2];
         let c2 = w[0] * self.u[1] - w[1] * self.u[0];
-        (x, c0.sqr() + c1.sqr() + c2.sqr())
+        // `c0² + c1² + c2²` in a loop: one `sqr` call site, since the
+        // shader inlines every call (BENCHMARKS.md "GPU", session 36).
+        let mut d2 = c0;
+        let mut k = 0;
+        while k < 3 {
+            let c = if k == 0 {
+                c0
+            } else if k == 1 {
+                c1
+            } else {
+                c2
+            };
+            let q = c.sqr();
+            d2 = if k == 0 { q } else { d2 + q };
+            k += 1;
+        }
+        (x, d2)
     }
 
     /// The squared homothetic distance to the skeleton point `q(s)`
@@ -260,18 +276,49 @@ impl<T: Real> Segment<T> {
     /// ```
     pub fn homothetic_sq<N: FieldNum<T>>(&self, p: [N; 3]) -> N {
         let (x, d2) = self.axial(p);
-        let h2_at = |s: N| {
-            // τ(s) > 0 for s ∈ [0, L]
-            let tau = s * self.slope + self.ra;
-            ((x - s).sqr() + d2) / tau.sqr()
-        };
         let tau_x = (x * self.slope + self.ra).max(N::constant(T::MIN_SUBNORMAL));
-        let s_star = (x + d2 * self.slope / tau_x)
-            .max(N::constant(T::ZERO))
-            .min(N::constant(self.len));
-        let e0 = (x.sqr() + d2) / (self.ra * self.ra);
-        let e1 = ((-x + self.len).sqr() + d2) / (self.rb * self.rb);
-        e0.min(e1).min(h2_at(s_star))
+        // Step 0: the clamped stationary point s* = clamp(x + d²·Δ/τ(x), 0,
+        // L). Steps 1-3: min(e0, e1, h²(s*)) with e0 = (x² + d²)/ra², e1 =
+        // ((L − x)² + d²)/rb² (the end-points) and h²(s) = ((x − s)² +
+        // d²)/τ(s)², τ(s) > 0 for s ∈ [0, L]. A loop, so that the division
+        // of two forms, `sqr` and `min` have one call site each (the shader
+        // inlines every call: BENCHMARKS.md "GPU", session 36).
+        let mut s_star = x;
+        let mut h2 = x;
+        let mut k = 0;
+        while k < 4 {
+            let num = if k == 0 {
+                d2 * self.slope
+            } else {
+                let a = if k == 1 {
+                    x
+                } else if k == 2 {
+                    -x + self.len
+                } else {
+                    x - s_star
+                };
+                a.sqr() + d2
+            };
+            let e = if k == 1 {
+                num / (self.ra * self.ra)
+            } else if k == 2 {
+                num / (self.rb * self.rb)
+            } else {
+                let den = if k == 0 {
+                    tau_x
+                } else {
+                    (s_star * self.slope + self.ra).sqr()
+                };
+                num / den
+            };
+            if k == 0 {
+                s_star = (x + e).max(N::constant(T::ZERO)).min(N::constant(self.len));
+            } else {
+                h2 = if k == 1 { e } else { h2.min(e) };
+            }
+            k += 1;
+        }
+        h2
     }
 
     /// The homothetic distance `h_S(p)` (eq. 1.12).
@@ -565,17 +612,26 @@ pub const KERNEL_CAUCHY: u32 = 1;
 /// GPU's fields evaluate (any kind but [`KERNEL_COMPACT`] is Cauchy).
 #[inline]
 pub(crate) fn kernel_sq<T: Real, N: FieldNum<T>>(kind: u32, degree: u32, sigma: T, h2: N) -> N {
-    if kind == KERNEL_COMPACT {
-        (h2 / (sigma * sigma))
-            .one_minus_clamped()
-            .powi((degree / 2) as i32)
+    // One call site per operation (the kernels' bases first, then a single
+    // `powi` and a single `recip`): the shader's forward forms inline every
+    // call, and three `powi`s made the homothetic bottom-up pipeline too
+    // large for lavapipe (BENCHMARKS.md "GPU", session 36). The same
+    // operations as `(1 − u)₊^{d/2}` and `1/(1 + u)^{d/2}` or
+    // `1/√((1 + u)^d)`, so the same results.
+    let u = h2 / (sigma * sigma);
+    let compact = kind == KERNEL_COMPACT;
+    let odd = degree % 2 != 0;
+    let n = if compact || !odd { degree / 2 } else { degree };
+    let base = if compact {
+        u.one_minus_clamped()
     } else {
-        let b = h2 / (sigma * sigma) + T::ONE;
-        if degree % 2 == 0 {
-            b.powi((degree / 2) as i32).recip()
-        } else {
-            b.powi(degree as i32).sqrt().recip()
-        }
+        u + T::ONE
+    };
+    let p = base.powi(n as i32);
+    if compact {
+        p
+    } else {
+        (if odd { p.sqrt() } else { p }).recip()
     }
 }
 

@@ -356,18 +356,33 @@ impl<T: Real> Operator<T> {
     /// docs).
     #[inline]
     pub fn eval<N: FieldNum<T>>(&self, f0: N, f1: N) -> N {
+        // By class and family rather than one arm per kind, so that every
+        // operation has one call site: the GPU shader inlines every call
+        // (BENCHMARKS.md "GPU", session 36). Per kind, the same operations:
+        // union `f₀ ∧ f₁`, intersection `f₀ ∨ f₁`, difference `f₀ ∨ −f₁`;
+        // smooth: that `∓ d(|f₀ − f₁|, β)` (`|f₀ + f₁|` for the
+        // difference); compact: [`compact`] with `f₁` or `−f₁`.
         let b = self.beta;
-        match self.kind {
-            OperatorKind::Union => f0.min(f1),
-            OperatorKind::Intersection => f0.max(f1),
-            OperatorKind::Difference => f0.max(-f1),
-            OperatorKind::SmoothUnion => f0.min(f1) - blend_const((f0 - f1).abs(), b),
-            OperatorKind::SmoothIntersection => f0.max(f1) + blend_const((f0 - f1).abs(), b),
-            OperatorKind::SmoothDifference => f0.max(-f1) + blend_const((f0 + f1).abs(), b),
-            OperatorKind::CompactUnion => compact(f0, f1, true, b, self.r_o),
-            OperatorKind::CompactIntersection => compact(f0, f1, false, b, self.r_o),
-            OperatorKind::CompactDifference => compact(f0, -f1, false, b, self.r_o),
+        let class = self.kind.class();
+        let union = class == OperatorClass::UnionLike;
+        let difference = class == OperatorClass::DifferenceLike;
+        let g1 = if difference { -f1 } else { f1 };
+        if self.kind.is_compact() {
+            return compact(f0, g1, union, b, self.r_o);
         }
+        let csg = if union { f0.min(g1) } else { f0.max(g1) };
+        let smooth = matches!(
+            self.kind,
+            OperatorKind::SmoothUnion
+                | OperatorKind::SmoothIntersection
+                | OperatorKind::SmoothDifference
+        );
+        if !smooth {
+            return csg;
+        }
+        let s = if difference { f0 + f1 } else { f0 - f1 };
+        let d = blend_const(s.abs(), b);
+        if union { csg - d } else { csg + d }
     }
 
     /// The operator with possibly missing (inactive) operands, each treated
@@ -582,11 +597,8 @@ fn compact<T: Real, N: FieldNum<T>>(f0: N, f1: N, union: bool, beta: T, r_o: T) 
     }
     let s = (f0 - f1).abs();
     // First evaluation with β, then the transition b_r (eq. 18).
-    let x = if union {
-        csg - blend_const(s, beta)
-    } else {
-        (csg + blend_const(s, beta)).abs()
-    };
+    let d0 = blend_const(s, beta);
+    let x = if union { csg - d0 } else { (csg + d0).abs() };
     let k = T::from_f64(6.0) / (T::from_f64(6.0) * r_o - beta);
     let b = (x * k).one_minus_clamped() * beta;
     let d = blend_var(s, b);

@@ -32,11 +32,11 @@
 //!   (segment tracing with the CPU's bound, from bottom-up lines; the
 //!   forward bottom-up and mixed methods), features `segment-hrbf`, …, a
 //!   module each;
-//! - `trace_{sphere,segment,linear_taylor}_homothetic`: the
+//! - `trace_{sphere,segment,linear_taylor}_homothetic`,
+//!   `trace_{linear,quadratic}_bottom_up_homothetic` and the mixed pairs
+//!   `{trace,taylor}_{linear,quadratic}_mixed_homothetic`: the
 //!   homothetic-distance skeletons of scene files, features
-//!   `sphere-homothetic`, `segment-homothetic` and
-//!   `linear-taylor-homothetic`, a module each (no bottom-up or mixed
-//!   module: lavapipe cannot compile their pipelines in 24 GB);
+//!   `sphere-homothetic`, …, a module each;
 //! - `trace_scalis` and `trace_scalis_tight` (its intervals' tight
 //!   stages, a pipeline of its own): `scalis-quadratic` and the
 //!   per-primitive `interval` bisection on SCALIS skeletons
@@ -413,6 +413,22 @@ leg_entry_point!(
     kernel::render_linear_taylor_leg_in::<kernel::HomotheticOnly>
 );
 
+leg_entry_point!(
+    /// `linear-bottom-up` on `SceneKind::Homothetic` skeletons, feature
+    /// `linear-bottom-up-homothetic`.
+    "linear-bottom-up-homothetic",
+    trace_linear_bottom_up_homothetic,
+    kernel::render_linear_bottom_up_leg_in::<kernel::HomotheticOnly>
+);
+
+leg_entry_point!(
+    /// `quadratic-bottom-up` on `SceneKind::Homothetic` skeletons, feature
+    /// `quadratic-bottom-up-homothetic`.
+    "quadratic-bottom-up-homothetic",
+    trace_quadratic_bottom_up_homothetic,
+    kernel::render_quadratic_bottom_up_leg_in::<kernel::HomotheticOnly>
+);
+
 /// The two entry points of a mixed-bounds module: `$trace`, one leg of
 /// each pixel with `$render` (the bottom-up side; the Taylor side read from
 /// the pixel's cache), and `$fill`, dispatched after it, the Taylor side of
@@ -552,6 +568,26 @@ mixed_entry_points!(
     kernel::fill_quadratic_taylor_in::<kernel::HrbfOnly>
 );
 
+mixed_entry_points!(
+    /// `linear-mixed` on `SceneKind::Homothetic` skeletons, feature
+    /// `linear-mixed-homothetic`.
+    "linear-mixed-homothetic",
+    trace_linear_mixed_homothetic,
+    kernel::render_linear_mixed_leg_in::<kernel::HomotheticOnly>,
+    taylor_linear_mixed_homothetic,
+    kernel::fill_linear_taylor_in::<kernel::HomotheticOnly>
+);
+
+mixed_entry_points!(
+    /// `quadratic-mixed` on `SceneKind::Homothetic` skeletons, feature
+    /// `quadratic-mixed-homothetic`.
+    "quadratic-mixed-homothetic",
+    trace_quadratic_mixed_homothetic,
+    kernel::render_quadratic_mixed_leg_in::<kernel::HomotheticOnly>,
+    taylor_quadratic_mixed_homothetic,
+    kernel::fill_quadratic_taylor_in::<kernel::HomotheticOnly>
+);
+
 leg_entry_point!(
     /// [`trace_sphere`] for `SceneKind::Blobtree` scenes (the flat
     /// blobtrees of the `aggregate-*` scenes,
@@ -584,7 +620,9 @@ leg_entry_point!(
     feature = "quadratic-bottom-up-hrbf",
     feature = "sphere-homothetic",
     feature = "segment-homothetic",
-    feature = "linear-taylor-homothetic"
+    feature = "linear-taylor-homothetic",
+    feature = "linear-bottom-up-homothetic",
+    feature = "quadratic-bottom-up-homothetic"
 ))]
 #[allow(clippy::too_many_arguments)]
 fn leg_entry<R>(

@@ -47,8 +47,8 @@
 //! and `trace_{linear,quadratic}_{bottom_up,mixed}_hrbf` (session 34),
 //! and for the homothetic-distance skeletons of scene files
 //! `trace_{sphere,segment,linear_taylor}_homothetic` (session 35; no
-//! quadratic Taylor bound, as on the CPU, and no bottom-up or mixed
-//! module: lavapipe cannot compile those pipelines in 24 GB),
+//! quadratic Taylor bound, as on the CPU) and
+//! `trace_{linear,quadratic}_{bottom_up,mixed}_homothetic` (session 36),
 //! entry points ([`leg_spirv_path`]) trace
 //! each pixel in resumable legs
 //! ([`boundtrace_gpu_kernel::render_sphere_leg_in`],
@@ -198,7 +198,7 @@ const SPHERE_ENTRY: &str = "trace_sphere";
 /// file name and its entry point (`segment-blobs`: feature
 /// `segment-blobs`, `…-segment-blobs.spv`, `trace_segment_blobs`); see
 /// [`leg_spirv_path`].
-const LEG_MODULE_LIST: [(Method, SceneKind, &str); 25] = [
+const LEG_MODULE_LIST: [(Method, SceneKind, &str); 29] = [
     (Method::Segment, SceneKind::Blobs, "segment-blobs"),
     (Method::Segment, SceneKind::BlobGroups, "segment-groups"),
     (
@@ -280,15 +280,34 @@ const LEG_MODULE_LIST: [(Method, SceneKind, &str); 25] = [
         "quadratic-mixed-hrbf",
     ),
     // The homothetic-distance skeletons of scene files: a global and a
-    // directional Lipschitz bound, no quadratic Taylor bound. No bottom-up
-    // or mixed module: lavapipe could not compile their pipelines in
-    // 24 GB (BENCHMARKS.md "GPU", session 35).
+    // directional Lipschitz bound, no quadratic Taylor bound (as on the
+    // CPU, whose answers every module's difftest compares).
     (Method::Sphere, SceneKind::Homothetic, "sphere-homothetic"),
     (Method::Segment, SceneKind::Homothetic, "segment-homothetic"),
     (
         Method::LinearTaylor,
         SceneKind::Homothetic,
         "linear-taylor-homothetic",
+    ),
+    (
+        Method::LinearBottomUp,
+        SceneKind::Homothetic,
+        "linear-bottom-up-homothetic",
+    ),
+    (
+        Method::QuadraticBottomUp,
+        SceneKind::Homothetic,
+        "quadratic-bottom-up-homothetic",
+    ),
+    (
+        Method::LinearMixed,
+        SceneKind::Homothetic,
+        "linear-mixed-homothetic",
+    ),
+    (
+        Method::QuadraticMixed,
+        SceneKind::Homothetic,
+        "quadratic-mixed-homothetic",
     ),
     // One module and entry point (`trace_scalis`) for both methods of the
     // pre-segmented SCALIS processing.
@@ -494,10 +513,9 @@ impl GpuScene {
     /// bound, so sphere tracing and the Taylor methods are unsupported on it,
     /// as on the CPU). Homothetic-distance skeletons (scene files) have
     /// GPU data too: the segments, the kernel and the scene's Lipschitz
-    /// bound, for `sphere`, `segment` and `linear-taylor` in the
-    /// `*-homothetic` modules (no quadratic Taylor bound, as on the CPU;
-    /// the bottom-up and mixed methods have no module: lavapipe cannot
-    /// compile their pipelines in 24 GB).
+    /// bound, for `sphere`, `segment`, `linear-taylor`, the bottom-up and
+    /// the mixed methods in the `*-homothetic` modules (no quadratic
+    /// Taylor bound, as on the CPU).
     ///
     /// A `molecule` field call loops over 500 atoms: lavapipe's llvmpipe
     /// allows 65,535 loop iterations per 8 pixels and dispatch, so its
@@ -2678,11 +2696,20 @@ mod tests {
             None
         );
         assert_eq!(leg_slot(Method::Interval, SceneKind::Homothetic), None);
-        assert_eq!(
-            leg_slot(Method::LinearBottomUp, SceneKind::Homothetic),
-            None
-        );
-        assert!(leg_slot(Method::LinearTaylor, SceneKind::Homothetic).is_some());
+        for method in [
+            Method::Sphere,
+            Method::Segment,
+            Method::LinearTaylor,
+            Method::LinearBottomUp,
+            Method::QuadraticBottomUp,
+            Method::LinearMixed,
+            Method::QuadraticMixed,
+        ] {
+            assert!(
+                leg_slot(method, SceneKind::Homothetic).is_some(),
+                "{method}"
+            );
+        }
         // a bound that is not a positive number is refused
         let field = SceneField::Homothetic(WithLipschitz::new(sk, f32::NAN));
         let scene = Scene::from_parts("h", String::new(), box_, [0.0; 3], field, 2).unwrap();

@@ -613,17 +613,52 @@ fn homothetic_scene() -> Scene<f32> {
 /// The GPU methods of the homothetic-distance skeletons (`*-homothetic`
 /// modules): sphere tracing with the scene's global Lipschitz bound,
 /// segment tracing and `linear-taylor` with the skeleton's directional
-/// Lipschitz lines, against the CPU on every pixel of
-/// [`homothetic_scene`], opaque and transparent, with the issue's
-/// thresholds, and in legs of 7 steps against unlimited legs. (The
-/// bottom-up and mixed methods have no module: lavapipe cannot compile
-/// their pipelines in 24 GB.)
+/// Lipschitz lines, and `linear-bottom-up`, against the CPU on every pixel
+/// of [`homothetic_scene`], opaque and transparent, with the issue's
+/// thresholds, and in legs of 7 steps against unlimited legs
+/// ([`homothetic_methods`]).
 #[test]
 fn homothetic_methods_match_the_cpu_in_both_modes() {
-    let Some(gpu) = gpu() else { return };
-    let methods = [Method::Sphere, Method::Segment, Method::LinearTaylor];
+    homothetic_methods(&[
+        Method::Sphere,
+        Method::Segment,
+        Method::LinearTaylor,
+        Method::LinearBottomUp,
+    ]);
+}
+
+/// [`homothetic_methods_match_the_cpu_in_both_modes`] for
+/// `quadratic-bottom-up` and `linear-mixed` (a separate test, so that CI
+/// can run the homothetic pipelines' compilations on two cores).
+#[test]
+fn homothetic_bottom_up_and_mixed_match_the_cpu_in_both_modes() {
+    homothetic_methods(&[Method::QuadraticBottomUp, Method::LinearMixed]);
+}
+
+/// [`homothetic_methods_match_the_cpu_in_both_modes`] for
+/// `quadratic-mixed` (its two pipelines, on a core of their own in CI).
+#[test]
+fn homothetic_quadratic_mixed_matches_the_cpu_in_both_modes() {
+    homothetic_methods(&[Method::QuadraticMixed]);
+}
+
+/// The homothetic difftest of `methods`, each with a tracer of its own
+/// (dropped with its pipelines: lavapipe keeps a pipeline's compile
+/// memory, several GB, until then; one tracer for five methods reached
+/// 13.7 GB).
+fn homothetic_methods(methods: &[Method]) {
     let mut failures = Vec::new();
-    scene_frames(&gpu, &methods, &homothetic_scene(), 24, true, &mut failures);
+    for &method in methods {
+        let Some(gpu) = gpu() else { return };
+        scene_frames(
+            &gpu,
+            &[method],
+            &homothetic_scene(),
+            24,
+            true,
+            &mut failures,
+        );
+    }
     assert_none_failed(&failures);
 }
 

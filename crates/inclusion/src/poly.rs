@@ -406,12 +406,12 @@ pub(crate) fn reduce_lo_fig8<T: Real>(c: [(T, T); 5], h: T) -> Option<Side<T>> {
     if c1.is_empty() || c2.is_empty() || c3.is_empty() || c4.is_empty() {
         return None;
     }
-    let (d1, d2, d3) = (c2 * T::TWO, c3 * T::from_f64(3.0), c4 * T::from_f64(4.0));
-    // P′ and P″ as enclosures at a point or over an interval of τ ≥ 0.
-    let dp = |t: Interval<T>| c1 + t * (d1 + t * (d2 + t * d3));
-    let ddp = |t: Interval<T>| d1 + t * (d2 * T::TWO + t * (d3 * T::from_f64(3.0)));
-    // P‴ decides the convexity of P′.
-    let dddp = |t: Interval<T>| d2 * T::TWO + t * (d3 * T::from_f64(6.0));
+    let d = [
+        c1,
+        c2 * T::TWO,
+        c3 * T::from_f64(3.0),
+        c4 * T::from_f64(4.0),
+    ];
     // Split point: the inflection, if inside (0, h).
     let mut split = None;
     let mid4 = c4.mid();
@@ -421,54 +421,82 @@ pub(crate) fn reduce_lo_fig8<T: Real>(c: [(T, T); 5], h: T) -> Option<Side<T>> {
             split = Some(ti);
         }
     }
-    // The values at 0 and h of the line below P′ on the part [u, v],
-    // extended (`None` when degenerate).
-    let part = |u: T, v: T| -> Option<(T, T)> {
-        if !(v > u) {
-            return None;
-        }
-        let (ui, vi) = (Interval::point(u), Interval::point(v));
-        let mi = Interval::point(u + (v - u) * T::HALF);
-        // Convexity of P′ on [u, v] from the sign of P‴ over the part.
-        let curv = dddp(Interval::new(u, v));
-        let (yu, yv) = if curv.lo() >= T::ZERO {
-            // Tangent at m with slope S: left of m use S.hi, right S.lo.
-            let y = Interval::point(dp(mi).lo());
-            let sl = ddp(mi);
-            let yu = y + Interval::point(sl.hi()) * (ui - mi);
-            let yv = y + Interval::point(sl.lo()) * (vi - mi);
-            (yu.lo(), yv.lo())
-        } else if curv.hi() <= T::ZERO {
-            (dp(ui).lo(), dp(vi).lo())
-        } else {
-            // Neither provably convex nor concave (rounding at the
-            // inflection): a constant below the range of P′ on the part.
-            let r = dp(Interval::new(u, v)).lo();
-            (r, r)
-        };
-        if !(yu.is_finite() && yv.is_finite()) {
-            return None;
-        }
-        // The line through (u, yu), (v, yv), extended to 0 and h.
-        let slope = (Interval::point(yv) - Interval::point(yu)) / (vi - ui);
-        let l0 = (Interval::point(yu) + slope * (Interval::point(T::ZERO) - ui)).lo();
-        let lh = (Interval::point(yu) + slope * (Interval::point(h) - ui)).lo();
-        Some((l0, lh))
-    };
     // Lowest values at 0 and at h of the extended lines (one part, or two
-    // split at the inflection; no index loop, see above).
-    let (l0, lh) = part(T::ZERO, split.unwrap_or(h))?;
-    let (mut at0, mut ath) = (min_lo(T::INFINITY, l0), min_lo(T::INFINITY, lh));
-    if let Some(ti) = split {
-        let (l0, lh) = part(ti, h)?;
-        at0 = min_lo(at0, l0);
-        ath = min_lo(ath, lh);
+    // split at the inflection). A loop, so that the part's bound has one
+    // call site: the shader inlines every call, and this function is in
+    // every forward quadratic product (BENCHMARKS.md "GPU", session 36).
+    let (parts, mid) = match split {
+        Some(ti) => (2, ti),
+        None => (1, h),
+    };
+    let (mut at0, mut ath) = (T::INFINITY, T::INFINITY);
+    let mut k = 0;
+    let mut lines = true;
+    while k < parts {
+        let (u, v) = if k == 0 { (T::ZERO, mid) } else { (mid, h) };
+        match fig8_part(d, u, v, h) {
+            Some((l0, lh)) => {
+                at0 = min_lo(at0, l0);
+                ath = min_lo(ath, lh);
+                k += 1;
+            }
+            None => {
+                lines = false;
+                k = parts;
+            }
+        }
+    }
+    if !lines {
+        return None;
     }
     if !(at0.is_finite() && ath.is_finite()) {
         return None;
     }
     let b = div_lo(sub_lo(ath, at0), h + h);
     Some(Side::new(c[0].0, at0, b))
+}
+
+/// [`reduce_lo_fig8`]'s line below `P′` on the part `[u, v]` of `[0, h]`,
+/// extended: its values at `0` and `h` (`None` when degenerate). `d` holds
+/// `P′`'s coefficients `[c₁, 2c₂, 3c₃, 4c₄]` as intervals.
+fn fig8_part<T: Real>(d: [boundtrace_ia_core::Interval<T>; 4], u: T, v: T, h: T) -> Option<(T, T)> {
+    use boundtrace_ia_core::Interval;
+    let [c1, d1, d2, d3] = d;
+    // P′ and P″ as enclosures at a point or over an interval of τ ≥ 0.
+    let dp = |t: Interval<T>| c1 + t * (d1 + t * (d2 + t * d3));
+    let ddp = |t: Interval<T>| d1 + t * (d2 * T::TWO + t * (d3 * T::from_f64(3.0)));
+    // P‴ decides the convexity of P′.
+    let dddp = |t: Interval<T>| d2 * T::TWO + t * (d3 * T::from_f64(6.0));
+    if !(v > u) {
+        return None;
+    }
+    let (ui, vi) = (Interval::point(u), Interval::point(v));
+    let mi = Interval::point(u + (v - u) * T::HALF);
+    // Convexity of P′ on [u, v] from the sign of P‴ over the part.
+    let curv = dddp(Interval::new(u, v));
+    let (yu, yv) = if curv.lo() >= T::ZERO {
+        // Tangent at m with slope S: left of m use S.hi, right S.lo.
+        let y = Interval::point(dp(mi).lo());
+        let sl = ddp(mi);
+        let yu = y + Interval::point(sl.hi()) * (ui - mi);
+        let yv = y + Interval::point(sl.lo()) * (vi - mi);
+        (yu.lo(), yv.lo())
+    } else if curv.hi() <= T::ZERO {
+        (dp(ui).lo(), dp(vi).lo())
+    } else {
+        // Neither provably convex nor concave (rounding at the
+        // inflection): a constant below the range of P′ on the part.
+        let r = dp(Interval::new(u, v)).lo();
+        (r, r)
+    };
+    if !(yu.is_finite() && yv.is_finite()) {
+        return None;
+    }
+    // The line through (u, yu), (v, yv), extended to 0 and h.
+    let slope = (Interval::point(yv) - Interval::point(yu)) / (vi - ui);
+    let l0 = (Interval::point(yu) + slope * (Interval::point(T::ZERO) - ui)).lo();
+    let lh = (Interval::point(yu) + slope * (Interval::point(h) - ui)).lo();
+    Some((l0, lh))
 }
 
 /// The coefficient bounds of `−P`.
