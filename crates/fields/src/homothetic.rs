@@ -237,8 +237,14 @@ impl<T: Real> Segment<T> {
         let c0 = w[1] * self.u[2] - w[2] * self.u[1];
         let c1 = w[2] * self.u[0] - w[0] * self.u[2];
         let c2 = w[0] * self.u[1] - w[1] * self.u[0];
-        // `c0² + c1² + c2²` in a loop: one `sqr` call site, since the
-        // shader inlines every call (BENCHMARKS.md "GPU", session 36).
+        if !N::IS_FORM {
+            return (x, c0.sqr() + c1.sqr() + c2.sqr());
+        }
+        // For the forms, `c0² + c1² + c2²` (the same sums) in a loop: one
+        // `sqr` call site, since the shader inlines every call and a form's
+        // `sqr` is large (BENCHMARKS.md "GPU", session 36). Not for the
+        // other types: llvmpipe counts every loop iteration against one
+        // budget per invocation, and the SCALIS normals ran out of it.
         let mut d2 = c0;
         let mut k = 0;
         while k < 3 {
@@ -277,12 +283,28 @@ impl<T: Real> Segment<T> {
     pub fn homothetic_sq<N: FieldNum<T>>(&self, p: [N; 3]) -> N {
         let (x, d2) = self.axial(p);
         let tau_x = (x * self.slope + self.ra).max(N::constant(T::MIN_SUBNORMAL));
+        if !N::IS_FORM {
+            // Straight-line for points, intervals and jets (no loop: see
+            // `axial`); the loop below computes the same for the forms.
+            let h2_at = |s: N| {
+                // τ(s) > 0 for s ∈ [0, L]
+                let tau = s * self.slope + self.ra;
+                ((x - s).sqr() + d2) / tau.sqr()
+            };
+            let s_star = (x + d2 * self.slope / tau_x)
+                .max(N::constant(T::ZERO))
+                .min(N::constant(self.len));
+            let e0 = (x.sqr() + d2) / (self.ra * self.ra);
+            let e1 = ((-x + self.len).sqr() + d2) / (self.rb * self.rb);
+            return e0.min(e1).min(h2_at(s_star));
+        }
         // Step 0: the clamped stationary point s* = clamp(x + d²·Δ/τ(x), 0,
         // L). Steps 1-3: min(e0, e1, h²(s*)) with e0 = (x² + d²)/ra², e1 =
         // ((L − x)² + d²)/rb² (the end-points) and h²(s) = ((x − s)² +
         // d²)/τ(s)², τ(s) > 0 for s ∈ [0, L]. A loop, so that the division
         // of two forms, `sqr` and `min` have one call site each (the shader
-        // inlines every call: BENCHMARKS.md "GPU", session 36).
+        // inlines every call: BENCHMARKS.md "GPU", session 36), for the
+        // forms only (see `axial`).
         let mut s_star = x;
         let mut h2 = x;
         let mut k = 0;
