@@ -9,6 +9,10 @@ writes it), counts the instructions of each function and its calls, and
 prints each entry point's inlined size, then the functions whose copies
 weigh most (copies x inlined size).
 
+(`scripts/spirv-inline-report.py` is the other side: from a module dumped
+*before* rust-gpu's linker inlines, it predicts what that linker inlines.
+This one reads the linked module a driver receives.)
+
 Usage: scripts/spirv-inlined-size.py MODULE.spv [ROWS]
 """
 import collections
